@@ -1,0 +1,45 @@
+# Optional CUDA support (DESIGN.md section 5, GPU).
+#   TMPC_WITH_CUDA = AUTO | ON | OFF
+#   TMPC_CUDA_ARCHITECTURES: cache variable; defaults cover Orin (87) and H100 (90)
+#   plus the TX2 (62) when the local nvcc still supports it.
+# The CPU build never needs nvcc: with AUTO and no nvcc, CUDA is simply off.
+set(TMPC_CUDA_ENABLED OFF)
+string(TOUPPER "${TMPC_WITH_CUDA}" _tmpc_cuda_mode)
+if(NOT _tmpc_cuda_mode STREQUAL "OFF")
+  if(NOT CMAKE_CUDA_COMPILER)
+    find_program(_tmpc_nvcc nvcc HINTS /usr/local/cuda/bin ENV CUDA_PATH PATH_SUFFIXES bin)
+    if(_tmpc_nvcc)
+      set(CMAKE_CUDA_COMPILER "${_tmpc_nvcc}" CACHE FILEPATH "CUDA compiler")
+    endif()
+  endif()
+  include(CheckLanguage)
+  check_language(CUDA)
+  if(CMAKE_CUDA_COMPILER)
+    set(TMPC_CUDA_ENABLED ON)
+  elseif(_tmpc_cuda_mode STREQUAL "ON")
+    message(FATAL_ERROR "TMPC_WITH_CUDA=ON but no CUDA compiler (nvcc) was found")
+  else()
+    message(STATUS "tmpc: nvcc not found, building the CPU path only")
+  endif()
+endif()
+
+if(TMPC_CUDA_ENABLED)
+  if(NOT DEFINED TMPC_CUDA_ARCHITECTURES)
+    # CUDA 13 dropped sm_62; keep it where the toolkit still compiles it (<= 12.x).
+    execute_process(COMMAND ${CMAKE_CUDA_COMPILER} --list-gpu-arch
+      OUTPUT_VARIABLE _tmpc_archs ERROR_QUIET)
+    set(_tmpc_default "87;90")
+    if(_tmpc_archs MATCHES "compute_62")
+      set(_tmpc_default "62;87;90")
+    endif()
+    set(TMPC_CUDA_ARCHITECTURES "${_tmpc_default}" CACHE STRING "CUDA architectures for the tmpc kernels")
+  endif()
+  set(CMAKE_CUDA_ARCHITECTURES ${TMPC_CUDA_ARCHITECTURES})
+  enable_language(CUDA)
+  find_package(CUDAToolkit REQUIRED)
+  # .cu files stay C++14: JetPack 4 (TX2) ships nvcc 10.2 without C++17.
+  set(CMAKE_CUDA_STANDARD 14)
+  set(CMAKE_CUDA_STANDARD_REQUIRED ON)
+  add_subdirectory(cuda)
+  message(STATUS "tmpc: CUDA enabled, architectures ${TMPC_CUDA_ARCHITECTURES}")
+endif()

@@ -1,0 +1,125 @@
+// The design configuration: vehicle parameters (model spec, set S1 or S2), the
+// helix reference (thesis 6.2), constraints and weights (thesis 5.3), the
+// disturbance schedule (thesis Table 6.1), simulation and solver settings.
+//
+// Every number of the case study lives in config/tiltrotor.yaml; nothing here has
+// a case-study default. load_config() validates everything and throws ConfigError
+// naming the file and the key (e.g. "tiltrotor.yaml: weights.state: expected 24
+// values, got 23").
+#pragma once
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace tmpc {
+
+/// Bad configuration input: the message names the file and the key.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Where the rotor-group inertia of the config is taken about (model spec 7.1).
+enum class RotorInertiaReference {
+  Com,    ///< set S1: about the rotor-group CoM (physical, thesis-literal)
+  Pivot,  ///< set S2: about the tilt pivot (Rego's linear model; not a rigid body)
+};
+
+/// Vehicle parameters (model spec sections 1-4; masses/inertias thesis Table 6.2).
+struct VehicleParams {
+  double gravity = 0.0;              // m/s^2, along -z of the inertial frame
+  double load_mass = 0.0;            // kg
+  Eigen::Matrix3d load_inertia;      // kg m^2, about the load CoM, load axes
+  double rod_length = 0.0;           // m, load to rod top A1 along +z_L
+  double body_mass = 0.0;            // kg
+  Eigen::Matrix3d body_inertia;      // kg m^2, about the body CoM, B axes
+  Eigen::Vector3d d_a1b;             // m, rod top A1 -> body origin B, B axes
+  Eigen::Vector3d d_b1;              // m, body origin -> body CoM, B axes
+  double rotor_mass = 0.0;           // kg, each rotor group
+  Eigen::Matrix3d rotor_inertia;     // kg m^2, rotor axes, about com or pivot
+  RotorInertiaReference rotor_inertia_reference = RotorInertiaReference::Com;
+  Eigen::Vector3d rotor_com;         // m, pivot -> rotor-group CoM, rotor axes
+  Eigen::Vector3d d_b_right;         // m, body origin -> right tilt pivot, B axes
+  Eigen::Vector3d d_b_left;          // m, body origin -> left tilt pivot, B axes
+  double dihedral = 0.0;             // rad, beta: rotor frames rolled by -+beta
+  double drag_torque_ratio = 0.0;    // m, k_tau/b: rotor drag torque per thrust
+  double spin_right = 0.0;           // +1 or -1, lambda_R
+  double spin_left = 0.0;            // +1 or -1, lambda_L
+  std::array<double, 10> friction{};  // N m s/rad (or N s/m), diagonal of L_fr
+
+  /// Rotor-group inertia about its CoM in rotor axes (S2 shifted by parallel axes).
+  Eigen::Matrix3d rotor_inertia_about_com() const;
+};
+
+/// Helix reference, thesis section 6.2:
+/// x = cx + r cos(w t), y = cy + r sin(w t), z = z0 - a cos(w t), psi = psi_r.
+struct HelixReference {
+  double radius = 0.0;       // m
+  double center_x = 0.0;     // m
+  double center_y = 0.0;     // m
+  double z_offset = 0.0;     // m
+  double z_amplitude = 0.0;  // m
+  double angular_rate = 0.0; // rad/s (pi/40 in the thesis)
+  double yaw = 0.0;          // rad
+};
+
+/// A constant force on the load switched on at `time` (thesis Table 6.1).
+struct DisturbanceStep {
+  double time = 0.0;                     // s
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N, inertial axes, added to earlier steps
+};
+
+/// Mass/inertia perturbations of the plant (thesis 6.5 Monte Carlo).
+struct PerturbationSettings {
+  double fraction = 0.0;       // relative half-range, e.g. 0.10
+  std::string distribution;    // "uniform" or "normal" (fraction = 3 sigma, clipped)
+  unsigned seed = 0;
+  int runs = 0;
+};
+
+enum class Discretization { Zoh, Euler };
+
+struct SimulationSettings {
+  double duration = 0.0;   // s, mission length
+  double substep = 0.0;    // s, RK4 step of the plant
+  std::string plant;       // "el" (Euler-Lagrange)
+};
+
+/// Settings for the linear error model (thesis 5.2).
+struct ErrorModelSettings {
+  Discretization discretization = Discretization::Zoh;
+  double lpv_sample_step = 0.0;  // s, sampling of the reference for the affinity check
+};
+
+struct SolverSettings {
+  double admm_epsilon = 0.0;  // thesis 6.4
+  double admm_eta = 0.0;      // restart factor, Algorithm 4.2
+  double rpi_lambda = 0.0;    // relative error bound of (3.34)
+};
+
+struct Config {
+  std::string source;  // file the config came from (for messages)
+  VehicleParams vehicle;
+  HelixReference reference;
+  double sample_time = 0.0;  // s, T
+  Eigen::Vector4d input_min, input_max;              // absolute actuator limits
+  Eigen::Matrix<double, 24, 1> state_error_max;      // half-widths of the error box X
+  Eigen::Vector4d input_weights;                     // lambda (Sigma_lambda)
+  Eigen::Matrix<double, 24, 1> state_weights;        // rho (Sigma_rho)
+  std::vector<DisturbanceStep> disturbances;
+  PerturbationSettings perturbation;
+  SimulationSettings simulation;
+  ErrorModelSettings error_model;
+  SolverSettings solver;
+};
+
+/// Load and validate a YAML config. Throws ConfigError naming file and key.
+Config load_config(const std::string& path);
+/// Same from a string (tests); `source` names it in messages.
+Config load_config_from_string(const std::string& yaml, const std::string& source);
+
+}  // namespace tmpc

@@ -1,0 +1,120 @@
+// `tmpc model`: the equilibrium, u_r(0), eigenvalues of the nominal error model and
+// the LPV summary, as text or JSON with stable keys.
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "tmpc/model/config.hpp"
+#include "tmpc/model/error_model.hpp"
+#include "tmpc/model/reference.hpp"
+
+namespace tmpc::cli {
+
+namespace {
+
+struct ModelOptions {
+  std::string config = "config/tiltrotor.yaml";
+  bool json = false;
+};
+
+nlohmann::json eigen_json(const Eigen::VectorXcd& ev) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < ev.size(); ++i) out.push_back({ev(i).real(), ev(i).imag()});
+  return out;
+}
+
+template <class V>
+std::vector<double> to_vec(const V& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+void run_model(const ModelOptions& opt) {
+  const Config cfg = load_config(opt.config);
+  const TiltrotorModel model(cfg.vehicle);
+  const ErrorModel em = build_error_model(cfg, model);
+  const HelixTrajectory traj(cfg.reference, em.equilibrium.angles);
+  const Eigen::Vector4d ur0 = feedforward(model, traj.at(0.0));
+
+  Eigen::EigenSolver<Mat24> ec(em.A_c, false);
+  Eigen::EigenSolver<Mat24> ed(em.A, false);
+  const Eigen::VectorXcd evc = ec.eigenvalues();
+  const Eigen::VectorXcd evd = ed.eigenvalues();
+  const double rho = evd.cwiseAbs().maxCoeff();
+  const double max_re = evc.real().maxCoeff();
+  const Equilibrium& eq = em.equilibrium;
+  const char* disc = em.discretization == Discretization::Zoh ? "zoh" : "euler";
+
+  if (opt.json) {
+    nlohmann::json j;
+    j["config"] = opt.config;
+    j["equilibrium"] = {{"gamma_1", eq.angles(0)}, {"gamma_2", eq.angles(1)}, {"alpha_r", eq.angles(2)},
+                        {"alpha_l", eq.angles(3)}, {"f_r", eq.u(0)},         {"f_l", eq.u(1)},
+                        {"tau_r", eq.u(2)},        {"tau_l", eq.u(3)},       {"residual", eq.residual}};
+    j["feedforward_t0"] = {{"f_r", ur0(0)}, {"f_l", ur0(1)}, {"tau_r", ur0(2)}, {"tau_l", ur0(3)}};
+    j["continuous"] = {{"eigenvalues", eigen_json(evc)}, {"max_real_part", max_re}};
+    j["discrete"] = {{"method", disc},
+                     {"sample_time", em.sample_time},
+                     {"eigenvalues", eigen_json(evd)},
+                     {"spectral_radius", rho}};
+    j["lpv"] = {{"vertices", em.A_vertices.size()},
+                {"parameters", 3},
+                {"sigma_min", to_vec(em.lpv.sigma_min)},
+                {"sigma_max", to_vec(em.lpv.sigma_max)},
+                {"sigma_part", em.lpv.sigma_part},
+                {"affinity_residual", em.lpv.affinity_residual},
+                {"affinity_residual_relative", em.lpv.affinity_residual_relative}};
+    j["inputs"] = {{"u_r_min", to_vec(em.u_r_min)},
+                   {"u_r_max", to_vec(em.u_r_max)},
+                   {"error_min", to_vec(em.input_error_min)},
+                   {"error_max", to_vec(em.input_error_max)}};
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+
+  std::printf("config: %s\n\n", opt.config.c_str());
+  std::printf("hover equilibrium (psi = %.4g rad), residual %.2e after %d Gauss-Newton steps\n", cfg.reference.yaw,
+              eq.residual, eq.iterations);
+  std::printf("  gamma_1 = %.6e rad   (thesis 1.3170e-4)\n", eq.angles(0));
+  std::printf("  gamma_2 = %.6f rad   (thesis 0.01396)\n", eq.angles(1));
+  std::printf("  alpha_r = %.6f rad   (thesis 0.0140)\n", eq.angles(2));
+  std::printf("  alpha_l = %.6f rad   (thesis 0.0138)\n", eq.angles(3));
+  std::printf("  f_r = %.6f N, f_l = %.6f N, tau_r = %.3e N m, tau_l = %.3e N m\n\n", eq.u(0), eq.u(1), eq.u(2),
+              eq.u(3));
+  std::printf("feedforward u_r(0): f_r = %.6f N, f_l = %.6f N, tau_r = %.3e N m, tau_l = %.3e N m\n\n", ur0(0),
+              ur0(1), ur0(2), ur0(3));
+  std::printf("continuous nominal A_a (24 states), eigenvalues (max real part %.3e):\n", max_re);
+  for (Eigen::Index i = 0; i < evc.size(); ++i) {
+    std::printf("  %+.6f %+.6fj\n", evc(i).real(), evc(i).imag());
+  }
+  std::printf("\ndiscrete nominal A_z (%s, T = %.4g s), spectral radius %.9f\n", disc, em.sample_time, rho);
+  for (Eigen::Index i = 0; i < evd.size(); ++i) {
+    std::printf("  %+.9f %+.9fj  |%.9f|\n", evd(i).real(), evd(i).imag(), std::abs(evd(i)));
+  }
+  std::printf("\nLPV: sigma = reference acceleration, %zu vertices\n", em.A_vertices.size());
+  std::printf("  sigma in [%.4g, %.4g] x [%.4g, %.4g] x [%.4g, %.4g] m/s^2\n", em.lpv.sigma_min(0),
+              em.lpv.sigma_max(0), em.lpv.sigma_min(1), em.lpv.sigma_max(1), em.lpv.sigma_min(2),
+              em.lpv.sigma_max(2));
+  std::printf("  max ||A_lpv(sigma) - A0|| / ||A0||          = %.3e\n", em.lpv.sigma_part);
+  std::printf("  affinity residual max ||A(t) - A_lpv|| / ||A0|| = %.3e (%.1f%% of the variation of A)\n",
+              em.lpv.affinity_residual, 100.0 * em.lpv.affinity_residual_relative);
+  std::printf("\ninput box in error coordinates (holds along the whole mission):\n");
+  for (int i = 0; i < 4; ++i) {
+    std::printf("  u_tilde[%d] in [%.4f, %.4f]\n", i, em.input_error_min(i), em.input_error_max(i));
+  }
+}
+
+}  // namespace
+
+void register_model(CLI::App& app) {
+  auto opt = std::make_shared<ModelOptions>();
+  CLI::App* sub = app.add_subcommand("model", "Equilibrium, feedforward and the linear error model of a config");
+  sub->add_option("--config", opt->config, "design configuration (YAML)")->check(CLI::ExistingFile);
+  sub->add_flag("--json", opt->json, "print JSON with stable keys");
+  sub->callback([opt]() { run_model(*opt); });
+}
+
+}  // namespace tmpc::cli

@@ -1,0 +1,14 @@
+// Subcommands of the tmpc executable; each registers itself on the CLI11 app.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace tmpc::cli {
+
+/// `tmpc model --config FILE [--json]`: equilibrium, feedforward, linear error model.
+void register_model(CLI::App& app);
+
+/// `tmpc devices`: CUDA devices available to this build.
+void register_devices(CLI::App& app);
+
+}  // namespace tmpc::cli

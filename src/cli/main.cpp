@@ -1,0 +1,28 @@
+// tmpc: tube MPC for the tiltrotor with a suspended load. One executable, subcommands.
+#include <cstdio>
+#include <exception>
+
+#include <spdlog/spdlog.h>
+
+#include "commands.hpp"
+#include "tmpc/model/config.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"tmpc: real-time tube MPC (design, simulation, control)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "tmpc 0.1.0");
+  tmpc::cli::register_model(app);
+  tmpc::cli::register_devices(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const tmpc::ConfigError& e) {
+    std::fprintf(stderr, "tmpc: configuration error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tmpc: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

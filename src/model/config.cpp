@@ -1,0 +1,339 @@
+// YAML loading and validation of the design configuration.
+#include "tmpc/model/config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+#include <yaml-cpp/yaml.h>
+
+namespace tmpc {
+
+namespace {
+
+/// A YAML mapping with its dotted path; every access is checked and every key
+/// that is not read is reported as unknown by finish().
+class Section {
+ public:
+  Section(YAML::Node node, std::string path, const std::string& file)
+      : node_(std::move(node)), path_(std::move(path)), file_(file) {
+    if (!node_ || !node_.IsMap()) fail(path_.empty() ? "(top level)" : path_, "expected a mapping");
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw ConfigError(file_ + ": " + key + ": " + what);
+  }
+  std::string key(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
+
+  YAML::Node raw(const std::string& k) {
+    used_.insert(k);
+    YAML::Node n = node_[k];
+    if (!n) fail(key(k), "missing");
+    return n;
+  }
+  bool has(const std::string& k) const { return static_cast<bool>(node_[k]); }
+
+  Section section(const std::string& k) { return Section(raw(k), key(k), file_); }
+
+  double number(const std::string& k) {
+    YAML::Node n = raw(k);
+    return to_number(n, key(k));
+  }
+  double number_in(const std::string& k, double lo, double hi) {
+    const double v = number(k);
+    if (v < lo || v > hi) {
+      std::ostringstream os;
+      os << "out of range: " << v << " not in [" << lo << ", " << hi << "]";
+      fail(key(k), os.str());
+    }
+    return v;
+  }
+  double positive(const std::string& k) {
+    const double v = number(k);
+    if (!(v > 0.0)) fail(key(k), "must be positive (got " + fmt(v) + ")");
+    return v;
+  }
+  std::string text(const std::string& k, std::initializer_list<const char*> allowed) {
+    YAML::Node n = raw(k);
+    if (!n.IsScalar()) fail(key(k), "expected a string");
+    const std::string s = n.as<std::string>();
+    std::string list;
+    for (const char* a : allowed) {
+      if (s == a) return s;
+      list += list.empty() ? a : std::string(", ") + a;
+    }
+    fail(key(k), "unknown value '" + s + "' (expected one of: " + list + ")");
+  }
+  std::vector<double> vector(const std::string& k, std::size_t n) {
+    return vector_of(raw(k), key(k), n);
+  }
+  std::vector<double> vector_of(const YAML::Node& node, const std::string& name, std::size_t n) const {
+    if (!node.IsSequence()) fail(name, "expected a list of " + std::to_string(n) + " numbers");
+    if (node.size() != n) {
+      fail(name, "expected " + std::to_string(n) + " values, got " + std::to_string(node.size()));
+    }
+    std::vector<double> out(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = to_number(node[i], name + "[" + std::to_string(i) + "]");
+    return out;
+  }
+
+  /// Report keys that were never read (typos, unsupported options).
+  void finish() const {
+    for (const auto& kv : node_) {
+      const std::string k = kv.first.as<std::string>();
+      if (used_.count(k) == 0) fail(key(k), "unknown key");
+    }
+  }
+
+ private:
+  static std::string fmt(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  }
+  double to_number(const YAML::Node& n, const std::string& name) const {
+    if (!n.IsScalar()) fail(name, "expected a number");
+    double v = 0.0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(name, "expected a number, got '" + n.as<std::string>() + "'");
+    }
+    if (!std::isfinite(v)) fail(name, "must be finite (got " + n.as<std::string>() + ")");
+    return v;
+  }
+
+  YAML::Node node_;
+  std::string path_;
+  const std::string& file_;
+  std::set<std::string> used_;
+};
+
+Eigen::Vector3d vec3(Section& s, const std::string& k) {
+  const auto v = s.vector(k, 3);
+  return {v[0], v[1], v[2]};
+}
+
+/// 3x3 inertia: symmetric, positive definite, triangle inequality checked by the
+/// caller where the body must be physical.
+Eigen::Matrix3d inertia(Section& s, const std::string& k) {
+  const auto v = s.vector(k, 9);
+  Eigen::Matrix3d m;
+  m << v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8];
+  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-12 * m.cwiseAbs().maxCoeff()) {
+    s.fail(s.key(k), "inertia must be symmetric");
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(m);
+  if (es.eigenvalues().minCoeff() <= 0.0) s.fail(s.key(k), "inertia must be positive definite");
+  return m;
+}
+
+double sign(Section& s, const std::string& k) {
+  const double v = s.number(k);
+  if (v != 1.0 && v != -1.0) s.fail(s.key(k), "must be +1 or -1");
+  return v;
+}
+
+void load_vehicle(Section v, VehicleParams& p) {
+  p.gravity = v.positive("gravity");
+  {
+    Section s = v.section("load");
+    p.load_mass = s.positive("mass");
+    p.load_inertia = inertia(s, "inertia");
+    s.finish();
+  }
+  p.rod_length = v.positive("rod_length");
+  {
+    Section s = v.section("body");
+    p.body_mass = s.positive("mass");
+    p.body_inertia = inertia(s, "inertia");
+    p.d_a1b = vec3(s, "rod_to_origin");
+    p.d_b1 = vec3(s, "com");
+    s.finish();
+  }
+  {
+    Section s = v.section("rotor");
+    p.rotor_mass = s.positive("mass");
+    p.rotor_inertia = inertia(s, "inertia");
+    const std::string ref = s.text("inertia_about", {"com", "pivot"});
+    p.rotor_inertia_reference = ref == "com" ? RotorInertiaReference::Com : RotorInertiaReference::Pivot;
+    p.rotor_com = vec3(s, "com");
+    p.d_b_right = vec3(s, "pivot_right");
+    p.d_b_left = vec3(s, "pivot_left");
+    p.dihedral = s.number_in("dihedral", -0.5, 0.5);
+    p.drag_torque_ratio = s.number_in("drag_torque_ratio", 0.0, 1.0);
+    p.spin_right = sign(s, "spin_right");
+    p.spin_left = sign(s, "spin_left");
+    s.finish();
+    if (p.rotor_inertia_reference == RotorInertiaReference::Pivot) {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(p.rotor_inertia_about_com());
+      if (es.eigenvalues().minCoeff() <= 0.0) {
+        v.fail(v.key("rotor.inertia"), "inertia about the pivot leaves a non-positive CoM inertia");
+      }
+    }
+  }
+  const auto fr = v.vector("friction", 10);
+  for (std::size_t i = 0; i < 10; ++i) {
+    if (fr[i] < 0.0) v.fail(v.key("friction") + "[" + std::to_string(i) + "]", "must be >= 0");
+    p.friction[i] = fr[i];
+  }
+  v.finish();
+}
+
+template <int N>
+Eigen::Matrix<double, N, 1> to_eigen(const std::vector<double>& v) {
+  Eigen::Matrix<double, N, 1> out;
+  for (int i = 0; i < N; ++i) out[i] = v[static_cast<std::size_t>(i)];
+  return out;
+}
+
+Config parse(const YAML::Node& root_node, const std::string& source) {
+  Config c;
+  c.source = source;
+  Section root(root_node, "", c.source);
+
+  load_vehicle(root.section("vehicle"), c.vehicle);
+
+  {
+    Section s = root.section("reference");
+    c.reference.radius = s.number_in("radius", 0.0, 1e4);
+    c.reference.center_x = s.number("center_x");
+    c.reference.center_y = s.number("center_y");
+    c.reference.z_offset = s.number("z_offset");
+    c.reference.z_amplitude = s.number_in("z_amplitude", 0.0, 1e4);
+    c.reference.angular_rate = s.number_in("angular_rate", 0.0, 100.0);
+    c.reference.yaw = s.number_in("yaw", -M_PI, M_PI);
+    s.finish();
+  }
+
+  c.sample_time = root.number_in("sample_time", 1e-5, 1.0);
+
+  {
+    Section s = root.section("constraints");
+    c.input_min = to_eigen<4>(s.vector("input_min", 4));
+    c.input_max = to_eigen<4>(s.vector("input_max", 4));
+    for (int i = 0; i < 4; ++i) {
+      if (!(c.input_max[i] > c.input_min[i])) {
+        s.fail(s.key("input_max") + "[" + std::to_string(i) + "]", "must exceed input_min");
+      }
+    }
+    if (c.input_min[0] < 0.0 || c.input_min[1] < 0.0) {
+      s.fail(s.key("input_min"), "thrusts cannot be negative");
+    }
+    c.state_error_max = to_eigen<24>(s.vector("state_error_max", 24));
+    for (int i = 0; i < 24; ++i) {
+      if (!(c.state_error_max[i] > 0.0)) {
+        s.fail(s.key("state_error_max") + "[" + std::to_string(i) + "]", "half-width must be positive");
+      }
+    }
+    s.finish();
+  }
+
+  {
+    Section s = root.section("weights");
+    c.input_weights = to_eigen<4>(s.vector("input", 4));
+    c.state_weights = to_eigen<24>(s.vector("state", 24));
+    for (int i = 0; i < 4; ++i) {
+      if (!(c.input_weights[i] > 0.0)) {
+        s.fail(s.key("input") + "[" + std::to_string(i) + "]", "weight must be positive");
+      }
+    }
+    for (int i = 0; i < 24; ++i) {
+      if (!(c.state_weights[i] > 0.0)) {
+        s.fail(s.key("state") + "[" + std::to_string(i) + "]", "weight must be positive");
+      }
+    }
+    s.finish();
+  }
+
+  {
+    Section s = root.section("disturbance");
+    YAML::Node steps = s.raw("steps");
+    const std::string name = s.key("steps");
+    if (!steps.IsSequence()) s.fail(name, "expected a list of {time, force}");
+    double last = -1.0;
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+      Section step(steps[i], name + "[" + std::to_string(i) + "]", c.source);
+      DisturbanceStep d;
+      d.time = step.number_in("time", 0.0, 1e6);
+      if (d.time < last) step.fail(step.key("time"), "steps must be in time order");
+      last = d.time;
+      d.force = vec3(step, "force");
+      step.finish();
+      c.disturbances.push_back(d);
+    }
+    s.finish();
+  }
+
+  {
+    Section s = root.section("perturbation");
+    c.perturbation.fraction = s.number_in("fraction", 0.0, 0.9);
+    c.perturbation.distribution = s.text("distribution", {"uniform", "normal"});
+    c.perturbation.seed = static_cast<unsigned>(s.number_in("seed", 0.0, 4294967295.0));
+    c.perturbation.runs = static_cast<int>(s.number_in("runs", 1.0, 1e6));
+    s.finish();
+  }
+
+  {
+    Section s = root.section("simulation");
+    c.simulation.duration = s.number_in("duration", 0.0, 1e6);
+    c.simulation.substep = s.number_in("substep", 1e-6, 0.1);
+    c.simulation.plant = s.text("plant", {"el"});
+    s.finish();
+    const double ratio = c.sample_time / c.simulation.substep;
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio) {
+      s.fail(s.key("substep"), "must divide sample_time into a whole number of steps");
+    }
+  }
+
+  {
+    Section s = root.section("error_model");
+    const std::string d = s.text("discretization", {"zoh", "euler"});
+    c.error_model.discretization = d == "zoh" ? Discretization::Zoh : Discretization::Euler;
+    c.error_model.lpv_sample_step = s.number_in("lpv_sample_step", 1e-3, 100.0);
+    s.finish();
+  }
+
+  {
+    Section s = root.section("solver");
+    c.solver.admm_epsilon = s.number_in("admm_epsilon", 1e-12, 1.0);
+    c.solver.admm_eta = s.number_in("admm_eta", 1e-6, 1.0 - 1e-12);
+    c.solver.rpi_lambda = s.number_in("rpi_lambda", 1e-9, 1.0 - 1e-9);
+    s.finish();
+  }
+
+  root.finish();
+  return c;
+}
+
+}  // namespace
+
+Eigen::Matrix3d VehicleParams::rotor_inertia_about_com() const {
+  if (rotor_inertia_reference == RotorInertiaReference::Com) return rotor_inertia;
+  // Parallel-axis theorem: I_pivot = I_com + m (|c|^2 I - c c').
+  const Eigen::Vector3d& c = rotor_com;
+  return rotor_inertia - rotor_mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+}
+
+Config load_config_from_string(const std::string& yaml, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source + ": YAML syntax error: " + e.what());
+  }
+  return parse(root, source);
+}
+
+Config load_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open the file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return load_config_from_string(ss.str(), path);
+}
+
+}  // namespace tmpc

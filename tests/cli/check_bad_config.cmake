@@ -1,0 +1,13 @@
+# A malformed config makes `tmpc model` fail with a message naming the key.
+file(READ ${SRC}/config/tiltrotor.yaml text)
+string(REPLACE "rod_length: 0.5" "rod_length: -0.5" text "${text}")
+set(bad ${CMAKE_CURRENT_BINARY_DIR}/bad_config.yaml)
+file(WRITE ${bad} "${text}")
+execute_process(COMMAND ${TMPC} model --config ${bad} RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(rc EQUAL 0)
+  message(FATAL_ERROR "tmpc model accepted a negative rod length")
+endif()
+if(NOT err MATCHES "vehicle.rod_length" OR NOT err MATCHES "bad_config.yaml")
+  message(FATAL_ERROR "error message does not name the file and key: ${err}")
+endif()
+message(STATUS "rejected as expected: ${err}")

@@ -1,0 +1,124 @@
+// Linear error model: the equivalence-principle structure at hover, exact affinity
+// in sigma, the integrals, ZOH against an independent integration, normalization.
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+#include "tmpc/model/error_model.hpp"
+#include "tmpc/model/reference.hpp"
+
+namespace tmpc {
+namespace {
+
+const ErrorModel& default_error_model() {
+  static const TiltrotorModel model(test::default_config().vehicle);
+  static const ErrorModel em = build_error_model(test::default_config(), model);
+  return em;
+}
+
+TEST(ErrorModel, EquivalencePrincipleStructureAtHover) {
+  // Model spec 5: at phi = theta = psi = 0, K[:, theta] = -g M[:, x] and
+  // K[:, phi] = g M[:, y], so A_c[x'', theta] = +g and A_c[y'', phi] = -g with the
+  // rest of those columns zero.
+  const ErrorModel& em = default_error_model();
+  const double g = test::default_config().vehicle.gravity;
+  const auto& A = em.lpv.A0;
+  Eigen::Matrix<double, kNx, 1> e_theta = Eigen::Matrix<double, kNx, 1>::Zero(), e_phi = e_theta;
+  e_theta(kNq + kX) = g;
+  e_phi(kNq + kY) = -g;
+  EXPECT_LT((A.col(kTheta) - e_theta).norm(), 1e-9);
+  EXPECT_LT((A.col(kPhi) - e_phi).norm(), 1e-9);
+  // Kinematic block [0 I].
+  EXPECT_LT((A.topLeftCorner<kNq, kNq>().norm()), 1e-14);
+  EXPECT_LT(((A.topRightCorner<kNq, kNq>() - Mat10::Identity()).norm()), 1e-14);
+  // Position is cyclic: no force depends on x, y, z.
+  EXPECT_LT(A.leftCols<3>().norm(), 1e-12);
+}
+
+TEST(ErrorModel, LpvIsExactlyAffineInSigmaAtZeroVelocity) {
+  const Config& cfg = test::default_config();
+  const TiltrotorModel model(cfg.vehicle);
+  const ErrorModel& em = default_error_model();
+  // Independent evaluation: linearize at u_r(sigma) for a sigma off the unit vectors.
+  const Eigen::Vector3d sigma(0.03, -0.02, 0.015);
+  ReferencePoint r;
+  r.q = em.equilibrium.q();
+  r.qdd.head<3>() = sigma;
+  State20 x;
+  x << r.q, Vec10::Zero();
+  const Mat20 A = model.linearize(x, feedforward(model, r), Eigen::Vector3d::Zero()).A;
+  EXPECT_LT((A - em.lpv.at(sigma)).norm(), 1e-9 * A.norm());
+  EXPECT_EQ(em.A_vertices.size(), 8u);
+  // Sigma box of the helix: +-r w^2 in x and y, +-a w^2 in z.
+  const double w2 = cfg.reference.angular_rate * cfg.reference.angular_rate;
+  EXPECT_NEAR(em.lpv.sigma_max(0), cfg.reference.radius * w2, 1e-9);
+  EXPECT_NEAR(em.lpv.sigma_min(1), -cfg.reference.radius * w2, 1e-9);
+  EXPECT_NEAR(em.lpv.sigma_max(2), cfg.reference.z_amplitude * w2, 1e-9);
+  // The reference velocity is what makes A(t) not exactly affine; it is small.
+  EXPECT_GT(em.lpv.affinity_residual, 0.0);
+  EXPECT_LT(em.lpv.affinity_residual, 0.05);
+}
+
+TEST(ErrorModel, IntegralsOfXYZPsi) {
+  const ErrorModel& em = default_error_model();
+  const int integrated[4] = {kX, kY, kZ, kPsi};
+  for (int i = 0; i < 4; ++i) {
+    Eigen::Matrix<double, 1, kNa> row = Eigen::Matrix<double, 1, kNa>::Zero();
+    row(integrated[i]) = 1.0;
+    EXPECT_EQ(em.A_c.row(kNx + i), row);
+    EXPECT_EQ(em.B_c.row(kNx + i).norm(), 0.0);
+  }
+}
+
+TEST(ErrorModel, ZeroOrderHoldMatchesAnIndependentIntegration) {
+  // Integrate x' = A_c x + B_c u over one period with RK4 at T/2000 from x0, u held.
+  const ErrorModel& em = default_error_model();
+  Vec24 x0 = Vec24::Random();
+  const Eigen::Vector4d u = Eigen::Vector4d::Random();
+  const int n = 2000;
+  const double h = em.sample_time / n;
+  Vec24 x = x0;
+  auto f = [&](const Vec24& s) -> Vec24 { return em.A_c * s + em.B_c * u; };
+  for (int i = 0; i < n; ++i) {
+    const Vec24 k1 = f(x), k2 = f(x + 0.5 * h * k1), k3 = f(x + 0.5 * h * k2), k4 = f(x + h * k3);
+    x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  const Vec24 zoh = em.A * x0 + em.B * u;
+  EXPECT_LT((zoh - x).norm(), 1e-10 * (1.0 + x.norm()));
+}
+
+TEST(ErrorModel, EulerOptionIsIPlusAT) {
+  Config cfg = test::default_config();
+  cfg.error_model.discretization = Discretization::Euler;
+  const TiltrotorModel model(cfg.vehicle);
+  const ErrorModel em = build_error_model(cfg, model);
+  EXPECT_LT((em.A - (Mat24::Identity() + em.A_c * cfg.sample_time)).norm(), 1e-14);
+  EXPECT_LT((em.B - em.B_c * cfg.sample_time).norm(), 1e-14);
+}
+
+TEST(ErrorModel, NormalizationMapsTheBoxesToUnitBoxes) {
+  const Config& cfg = test::default_config();
+  const ErrorModel& em = default_error_model();
+  EXPECT_LT((em.N_x.cwiseProduct(cfg.state_error_max) - Vec24::Ones()).norm(), 1e-14);
+  EXPECT_LT((em.N_u.cwiseProduct(0.5 * (cfg.input_max - cfg.input_min)) - Eigen::Vector4d::Ones()).norm(), 1e-14);
+  // The normalized model propagates normalized states: N_x (A x + B u) = A_n N_x x + B_n N_u u.
+  const Vec24 x = Vec24::Random();
+  const Eigen::Vector4d u = Eigen::Vector4d::Random();
+  const Vec24 lhs = em.N_x.asDiagonal() * (em.A * x + em.B * u);
+  const Vec24 rhs = em.A_n * em.N_x.cwiseProduct(x) + em.B_n * em.N_u.cwiseProduct(u);
+  EXPECT_LT((lhs - rhs).norm(), 1e-12 * lhs.norm());
+}
+
+TEST(ErrorModel, InputErrorBoxHoldsAlongTheMission) {
+  const Config& cfg = test::default_config();
+  const ErrorModel& em = default_error_model();
+  // Thrusts around 11.7 N in [0, 30]: the error box is [-u_r_min, 30 - u_r_max].
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_LT(em.input_error_min(i), 0.0);
+    EXPECT_GT(em.input_error_max(i), 0.0);
+    EXPECT_LE(em.u_r_min(i), em.u_r_max(i));
+  }
+  EXPECT_NEAR(em.input_error_min(0), cfg.input_min(0) - em.u_r_min(0), 1e-15);
+}
+
+}  // namespace
+}  // namespace tmpc

@@ -1,0 +1,39 @@
+// Shared fixtures of the model tests: the default config and random admissible states.
+#pragma once
+
+#include <random>
+
+#include "tmpc/model/config.hpp"
+#include "tmpc/model/dynamics.hpp"
+
+namespace tmpc::test {
+
+inline const Config& default_config() {
+  static const Config cfg = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor.yaml");
+  return cfg;
+}
+
+/// Random admissible configuration: position anywhere, attitude and joint angles
+/// inside +-0.5 rad (the state box), yaw free.
+inline Vec10 random_q(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> pos(-5.0, 5.0), ang(-0.5, 0.5), yaw(-3.1, 3.1);
+  Vec10 q;
+  q << pos(rng), pos(rng), pos(rng), ang(rng), ang(rng), yaw(rng), ang(rng), ang(rng), ang(rng), ang(rng);
+  return q;
+}
+
+/// Random velocities inside the velocity box of the case study.
+inline Vec10 random_qd(std::mt19937_64& rng) {
+  const double box[10] = {0.6, 1.0, 0.2, 1.0, 1.0, 0.5, 2.0, 1.0, 0.2, 0.2};
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vec10 qd;
+  for (int i = 0; i < 10; ++i) qd(i) = box[i] * u(rng);
+  return qd;
+}
+
+inline Eigen::Vector4d random_u(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> f(0.0, 30.0), tau(-2.0, 2.0);
+  return {f(rng), f(rng), tau(rng), tau(rng)};
+}
+
+}  // namespace tmpc::test
