@@ -36,7 +36,7 @@ void run_model(const ModelOptions& opt) {
   const Config cfg = load_config(opt.config);
   const TiltrotorModel model(cfg.vehicle);
   const ErrorModel em = build_error_model(cfg, model);
-  const HelixTrajectory traj(cfg.reference, em.equilibrium.angles);
+  const HelixTrajectory traj(cfg.reference, model);
   const Eigen::Vector4d ur0 = feedforward(model, traj.at(0.0));
 
   Eigen::EigenSolver<Mat24> ec(em.A_c, false);
@@ -66,7 +66,9 @@ void run_model(const ModelOptions& opt) {
                 {"sigma_max", to_vec(em.lpv.sigma_max)},
                 {"sigma_part", em.lpv.sigma_part},
                 {"affinity_residual", em.lpv.affinity_residual},
-                {"affinity_residual_relative", em.lpv.affinity_residual_relative}};
+                {"affinity_residual_relative", em.lpv.affinity_residual_relative},
+                {"b_variation", em.lpv.b_variation}};
+    j["reference"] = {{"attitude", cfg.reference.attitude == ReferenceAttitude::Trim ? "trim" : "equilibrium"}};
     j["inputs"] = {{"u_r_min", to_vec(em.u_r_min)},
                    {"u_r_max", to_vec(em.u_r_max)},
                    {"error_min", to_vec(em.input_error_min)},
@@ -101,6 +103,8 @@ void run_model(const ModelOptions& opt) {
   std::printf("  max ||A_lpv(sigma) - A0|| / ||A0||          = %.3e\n", em.lpv.sigma_part);
   std::printf("  affinity residual max ||A(t) - A_lpv|| / ||A0|| = %.3e (%.1f%% of the variation of A)\n",
               em.lpv.affinity_residual, 100.0 * em.lpv.affinity_residual_relative);
+  std::printf("  B along the helix: max ||B(t) - B(0)|| / ||B(0)|| = %.3e (reference attitude: %s)\n",
+              em.lpv.b_variation, cfg.reference.attitude == ReferenceAttitude::Trim ? "trim" : "equilibrium");
   std::printf("\ninput box in error coordinates (holds along the whole mission):\n");
   for (int i = 0; i < 4; ++i) {
     std::printf("  u_tilde[%d] in [%.4f, %.4f]\n", i, em.input_error_min(i), em.input_error_max(i));

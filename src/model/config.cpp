@@ -206,6 +206,8 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     c.reference.z_amplitude = s.number_in("z_amplitude", 0.0, 1e4);
     c.reference.angular_rate = s.number_in("angular_rate", 0.0, 100.0);
     c.reference.yaw = s.number_in("yaw", -M_PI, M_PI);
+    c.reference.attitude = s.text("attitude", {"trim", "equilibrium"}) == "trim" ? ReferenceAttitude::Trim
+                                                                               : ReferenceAttitude::Equilibrium;
     s.finish();
   }
 

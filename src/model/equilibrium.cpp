@@ -1,4 +1,4 @@
-// Hover equilibrium by Gauss-Newton on L_in(q) u - G(q) = 0.
+// Hover equilibrium and trim by Gauss-Newton with exact Jacobians.
 #include "tmpc/model/equilibrium.hpp"
 
 #include <array>
@@ -13,19 +13,57 @@ namespace tmpc {
 
 namespace {
 
-/// Residual L_in(q) u - G(q) at zero velocity; z = (angles, u).
-template <class T>
-Eigen::Matrix<T, kNq, 1> residual(const TiltrotorModel& model, double yaw, const T* z) {
-  std::array<T, kNq> q{};
-  std::array<T, kNq> qd{};
-  for (auto& v : q) v = T(0.0);
-  for (auto& v : qd) v = T(0.0);
+/// Residual L_in(q) u - (M q'' + C q' + L_fr q' + G) with q'' = (sigma, 0), q' = (v, 0).
+/// z holds the free coordinates listed in `free` (indices into q), then u.
+template <class T, int NF>
+Eigen::Matrix<T, kNq, 1> residual(const TiltrotorModel& model, double yaw, const Eigen::Vector3d& sigma,
+                                  const Eigen::Vector3d& v, const std::array<int, NF>& free, const T* z) {
+  std::array<T, kNq> q{}, qd{};
+  for (auto& a : q) a = T(0.0);
+  for (auto& a : qd) a = T(0.0);
   q[kPsi] = T(yaw);
-  for (int i = 0; i < 4; ++i) q[static_cast<std::size_t>(kGamma1 + i)] = z[i];
+  for (int i = 0; i < 3; ++i) qd[static_cast<std::size_t>(i)] = T(v(i));
+  for (int i = 0; i < NF; ++i) q[static_cast<std::size_t>(free[static_cast<std::size_t>(i)])] = z[i];
   const DynamicsTerms<T> t = model.terms<T>(q.data(), qd.data());
-  Eigen::Matrix<T, kNq, 1> r = -t.G;
-  for (int j = 0; j < kNu; ++j) r += t.L_in.col(j) * z[4 + j];
+  Eigen::Matrix<T, kNq, 1> r = -t.G - t.c;
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < kNq; ++k) r(k) -= t.M(k, i) * T(sigma(i));
+  }
+  const auto& mu = model.params().friction;
+  for (int i = 0; i < 3; ++i) r(i) -= T(mu[static_cast<std::size_t>(i)] * v(i));
+  for (int j = 0; j < kNu; ++j) r += t.L_in.col(j) * z[NF + j];
   return r;
+}
+
+/// Gauss-Newton on residual() over NF free coordinates and the 4 inputs.
+template <int NF>
+Eigen::Matrix<double, NF + 4, 1> gauss_newton(const TiltrotorModel& model, double yaw, const Eigen::Vector3d& sigma,
+                                             const Eigen::Vector3d& v, const std::array<int, NF>& free,
+                                             Eigen::Matrix<double, NF + 4, 1> z, double tolerance, double& res,
+                                             int& iterations, const char* what) {
+  constexpr int n = NF + 4;
+  for (iterations = 0; iterations < 50; ++iterations) {
+    Eigen::Matrix<double, kNq, n> J;
+    Eigen::Matrix<double, kNq, 1> r;
+    std::array<D1, n> zz;
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) zz[static_cast<std::size_t>(i)] = D1(z(i), i == j ? 1.0 : 0.0);
+      const auto rr = residual<D1, NF>(model, yaw, sigma, v, free, zz.data());
+      for (int i = 0; i < kNq; ++i) {
+        J(i, j) = rr(i).d;
+        r(i) = rr(i).v;
+      }
+    }
+    res = r.cwiseAbs().maxCoeff();
+    if (res < tolerance) break;
+    z -= J.colPivHouseholderQr().solve(r);
+  }
+  res = residual<double, NF>(model, yaw, sigma, v, free, z.data()).cwiseAbs().maxCoeff();
+  if (!(res < tolerance)) {
+    throw std::runtime_error(std::string(what) + ": Gauss-Newton stopped at residual " + std::to_string(res) +
+                             " (tolerance " + std::to_string(tolerance) + ")");
+  }
+  return z;
 }
 
 }  // namespace
@@ -42,32 +80,25 @@ Equilibrium solve_hover_equilibrium(const TiltrotorModel& model, double yaw, dou
   Eigen::Matrix<double, 8, 1> z;
   z << 0, 0, 0, 0, 0.5 * weight, 0.5 * weight, 0, 0;
   Equilibrium eq;
-  for (int it = 0; it < 50; ++it) {
-    std::array<D1, 8> zz;
-    Eigen::Matrix<double, kNq, 8> J;
-    Eigen::Matrix<double, kNq, 1> r;
-    for (int j = 0; j < 8; ++j) {
-      for (int i = 0; i < 8; ++i) zz[static_cast<std::size_t>(i)] = D1(z(i), i == j ? 1.0 : 0.0);
-      const auto rr = residual<D1>(model, yaw, zz.data());
-      for (int i = 0; i < kNq; ++i) {
-        J(i, j) = rr(i).d;
-        r(i) = rr(i).v;
-      }
-    }
-    eq.iterations = it;
-    eq.residual = r.cwiseAbs().maxCoeff();
-    if (eq.residual < tolerance) break;
-    z -= J.colPivHouseholderQr().solve(r);
-  }
+  const std::array<int, 4> free = {kGamma1, kGamma2, kAlphaR, kAlphaL};
+  z = gauss_newton<4>(model, yaw, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), free, z, tolerance, eq.residual,
+                      eq.iterations, "hover equilibrium");
   eq.angles = z.head<4>();
   eq.u = z.tail<4>();
-  const auto r = residual<double>(model, yaw, z.data());
-  eq.residual = r.cwiseAbs().maxCoeff();
-  if (!(eq.residual < tolerance)) {
-    throw std::runtime_error("hover equilibrium: Gauss-Newton stopped at residual " + std::to_string(eq.residual) +
-                             " (tolerance " + std::to_string(tolerance) + ")");
-  }
   return eq;
+}
+
+Trim solve_trim(const TiltrotorModel& model, const Eigen::Vector3d& sigma, const Eigen::Vector3d& velocity,
+                double yaw, const Equilibrium& start, double tolerance) {
+  Eigen::Matrix<double, 10, 1> z;
+  z << 0.0, 0.0, start.angles, start.u;
+  const std::array<int, 6> free = {kPhi, kTheta, kGamma1, kGamma2, kAlphaR, kAlphaL};
+  Trim t;
+  z = gauss_newton<6>(model, yaw, sigma, velocity, free, z, tolerance, t.residual, t.iterations, "trim");
+  t.attitude = z.head<2>();
+  t.angles = z.segment<4>(2);
+  t.u = z.tail<4>();
+  return t;
 }
 
 }  // namespace tmpc

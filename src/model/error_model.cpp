@@ -66,60 +66,80 @@ ErrorModel build_error_model(const Config& cfg, const TiltrotorModel& model) {
   ErrorModel em;
   em.sample_time = cfg.sample_time;
   em.discretization = cfg.error_model.discretization;
-  em.equilibrium = solve_hover_equilibrium(model, cfg.reference.yaw);
-  const HelixTrajectory traj(cfg.reference, em.equilibrium.angles);
+  const HelixTrajectory traj(cfg.reference, model);
+  em.equilibrium = traj.equilibrium();
   const Eigen::Vector3d no_d = Eigen::Vector3d::Zero();
+  const bool trim = cfg.reference.attitude == ReferenceAttitude::Trim;
 
-  // A(sigma) at the reference attitude with zero velocity: f is affine in u and
-  // u_r(sigma) is affine in sigma, so A(sigma) is exactly affine.
-  ReferencePoint hover = traj.at(0.0);
-  hover.q.head<3>().setZero();
-  hover.qd.setZero();
-  hover.qdd.setZero();
+  // Linearization at the reference attitude for acceleration sigma, zero velocity.
   auto linear_at = [&](const Eigen::Vector3d& sigma) {
-    ReferencePoint r = hover;
+    ReferencePoint r;
+    r.q = em.equilibrium.q();
+    r.q(kPsi) = cfg.reference.yaw;
     r.qdd.head<3>() = sigma;
-    return model.linearize(stack(r.q, r.qd), feedforward(model, r), no_d);
+    Eigen::Vector4d u;
+    if (trim) {
+      const Trim t = solve_trim(model, sigma, Eigen::Vector3d::Zero(), cfg.reference.yaw, em.equilibrium);
+      r.q.segment<2>(kPhi) = t.attitude;
+      r.q.segment<4>(kGamma1) = t.angles;
+      u = t.u;
+    } else {
+      u = feedforward(model, r);  // exactly affine in sigma
+    }
+    return model.linearize(stack(r.q, r.qd), u, no_d);
   };
-  const Linearization l0 = linear_at(Eigen::Vector3d::Zero());
-  LpvModel& lpv = em.lpv;
-  lpv.A0 = l0.A;
-  lpv.B = l0.B;
-  lpv.D = l0.D;
-  lpv.A_sigma.resize(3);
-  for (int i = 0; i < 3; ++i) {
-    lpv.A_sigma[static_cast<std::size_t>(i)] = linear_at(Eigen::Vector3d::Unit(i)).A - l0.A;
-  }
 
-  // Sample the mission: sigma's box, u_r's range, and how affine the true A(t) is.
+  // Sample the mission: sigma's box and u_r's range.
+  const double step = cfg.error_model.lpv_sample_step;
+  const int samples = std::max(1, static_cast<int>(std::floor(cfg.simulation.duration / step + 1e-9))) + 1;
+  std::vector<ReferencePoint> points;
+  std::vector<Eigen::Vector4d> inputs;
+  LpvModel& lpv = em.lpv;
   lpv.sigma_min.setConstant(1e300);
   lpv.sigma_max.setConstant(-1e300);
   em.u_r_min.setConstant(1e300);
   em.u_r_max.setConstant(-1e300);
-  const double a0 = lpv.A0.norm();
-  double worst_abs = 0.0;
-  double worst_var = 0.0;
-  double worst_sigma = 0.0;
-  const double step = cfg.error_model.lpv_sample_step;
-  const int samples = std::max(1, static_cast<int>(std::floor(cfg.simulation.duration / step + 1e-9))) + 1;
   for (int k = 0; k < samples; ++k) {
-    const double t = std::min(k * step, cfg.simulation.duration);
-    const ReferencePoint r = traj.at(t);
+    const ReferencePoint r = traj.at(std::min(k * step, cfg.simulation.duration));
     const Eigen::Vector4d ur = feedforward(model, r);
     em.u_r_min = em.u_r_min.cwiseMin(ur);
     em.u_r_max = em.u_r_max.cwiseMax(ur);
-    const Eigen::Vector3d s = r.sigma();
-    lpv.sigma_min = lpv.sigma_min.cwiseMin(s);
-    lpv.sigma_max = lpv.sigma_max.cwiseMax(s);
-    const Mat20 A_true = model.linearize(stack(r.q, r.qd), ur, no_d).A;
-    const Mat20 A_lpv = lpv.at(s);
-    worst_abs = std::max(worst_abs, (A_true - A_lpv).norm());
-    worst_var = std::max(worst_var, (A_true - lpv.A0).norm());
+    lpv.sigma_min = lpv.sigma_min.cwiseMin(r.sigma());
+    lpv.sigma_max = lpv.sigma_max.cwiseMax(r.sigma());
+    points.push_back(r);
+    inputs.push_back(ur);
+  }
+
+  // A_0 at sigma = 0, A_i the secant over sigma_i's range (exact for an affine A).
+  const Linearization l0 = linear_at(Eigen::Vector3d::Zero());
+  lpv.A0 = l0.A;
+  lpv.B = l0.B;
+  lpv.D = l0.D;
+  lpv.A_sigma.assign(3, Mat20::Zero());
+  for (int i = 0; i < 3; ++i) {
+    const double lo = lpv.sigma_min(i), hi = lpv.sigma_max(i);
+    if (hi - lo > 1e-12) {
+      lpv.A_sigma[static_cast<std::size_t>(i)] =
+          (linear_at(hi * Eigen::Vector3d::Unit(i)).A - linear_at(lo * Eigen::Vector3d::Unit(i)).A) / (hi - lo);
+    }
+  }
+
+  // How affine the true A(t) (with the reference velocity) is, and how constant B is.
+  const double a0 = lpv.A0.norm();
+  double worst_abs = 0.0, worst_var = 0.0, worst_sigma = 0.0, worst_b = 0.0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const ReferencePoint& r = points[k];
+    const Linearization l = model.linearize(stack(r.q, r.qd), inputs[k], no_d);
+    const Mat20 A_lpv = lpv.at(r.sigma());
+    worst_abs = std::max(worst_abs, (l.A - A_lpv).norm());
+    worst_var = std::max(worst_var, (l.A - lpv.A0).norm());
     worst_sigma = std::max(worst_sigma, (A_lpv - lpv.A0).norm());
+    worst_b = std::max(worst_b, (l.B - lpv.B).norm());
   }
   lpv.affinity_residual = worst_abs / a0;
   lpv.affinity_residual_relative = worst_var > 0.0 ? worst_abs / worst_var : 0.0;
   lpv.sigma_part = worst_sigma / a0;
+  lpv.b_variation = worst_b / lpv.B.norm();
   for (int v = 0; v < 8; ++v) {
     Eigen::Vector3d s;
     for (int i = 0; i < 3; ++i) s(i) = ((v >> i) & 1) ? lpv.sigma_max(i) : lpv.sigma_min(i);

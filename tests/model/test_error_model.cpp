@@ -34,10 +34,11 @@ TEST(ErrorModel, EquivalencePrincipleStructureAtHover) {
   EXPECT_LT(A.leftCols<3>().norm(), 1e-12);
 }
 
-TEST(ErrorModel, LpvIsExactlyAffineInSigmaAtZeroVelocity) {
-  const Config& cfg = test::default_config();
+TEST(ErrorModel, LpvIsExactlyAffineInSigmaForTheThesisLiteralAttitude) {
+  Config cfg = test::default_config();
+  cfg.reference.attitude = ReferenceAttitude::Equilibrium;
   const TiltrotorModel model(cfg.vehicle);
-  const ErrorModel& em = default_error_model();
+  const ErrorModel em = build_error_model(cfg, model);
   // Independent evaluation: linearize at u_r(sigma) for a sigma off the unit vectors.
   const Eigen::Vector3d sigma(0.03, -0.02, 0.015);
   ReferencePoint r;
@@ -56,6 +57,25 @@ TEST(ErrorModel, LpvIsExactlyAffineInSigmaAtZeroVelocity) {
   // The reference velocity is what makes A(t) not exactly affine; it is small.
   EXPECT_GT(em.lpv.affinity_residual, 0.0);
   EXPECT_LT(em.lpv.affinity_residual, 0.05);
+  EXPECT_LT(em.lpv.b_variation, 1e-12);  // B does not depend on sigma here
+}
+
+TEST(ErrorModel, TrimAttitudeIsNearlyAffineAndReportsIt) {
+  const Config& cfg = test::default_config();
+  const TiltrotorModel model(cfg.vehicle);
+  const ErrorModel& em = default_error_model();
+  EXPECT_EQ(em.A_vertices.size(), 8u);
+  // The true A along the helix stays close to the LPV fit, B nearly constant.
+  EXPECT_LT(em.lpv.affinity_residual, 0.05);
+  EXPECT_LT(em.lpv.b_variation, 0.05);
+  // A at a vertex from the model itself is within the reported residual of the fit.
+  const Eigen::Vector3d s = em.lpv.vertex_sigma[5];
+  const Trim t = solve_trim(model, s, Eigen::Vector3d::Zero(), 0.0, em.equilibrium);
+  State20 x = State20::Zero();
+  x.segment<2>(kPhi) = t.attitude;
+  x.segment<4>(kGamma1) = t.angles;
+  const Mat20 A = model.linearize(x, t.u, Eigen::Vector3d::Zero()).A;
+  EXPECT_LT((A - em.lpv.at(s)).norm() / em.lpv.A0.norm(), std::max(1e-9, 2.0 * em.lpv.affinity_residual));
 }
 
 TEST(ErrorModel, IntegralsOfXYZPsi) {

@@ -65,23 +65,36 @@ TEST(ElPlant, StaysAtTheHoverEquilibrium) {
   EXPECT_LT((plant.state() - x0).cwiseAbs().maxCoeff(), 1e-8);
 }
 
-TEST(ElPlant, FeedforwardKeepsThePlantOnTheHelixFor2s) {
-  const Config& cfg = test::default_config();
+/// Largest distance of the load from the helix over 2 s of open-loop feedforward.
+double feedforward_drift(const Config& cfg) {
   auto plant = make_plant("el", cfg, false, -1);
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, solve_hover_equilibrium(model).angles);
+  const HelixTrajectory traj(cfg.reference, model);
   State20 x0;
   const ReferencePoint r0 = traj.at(0.0);
   x0 << r0.q, r0.qd;
   plant->reset(x0, 0.0);
   double worst = 0.0;
   for (int k = 0; k < 2000; ++k) {
-    const double t = plant->time();
-    plant->advance(feedforward(model, traj.at(t)), 0.001);
+    plant->advance(feedforward(model, traj.at(plant->time())), 0.001);
     const ReferencePoint r = traj.at(plant->time());
     worst = std::max(worst, (plant->state().head<3>() - r.q.head<3>()).norm());
   }
-  EXPECT_LT(worst, 0.01) << "load position left the helix by " << worst << " m";
+  return worst;
+}
+
+TEST(ElPlant, FeedforwardKeepsThePlantOnTheHelixFor2s) {
+  const double drift = feedforward_drift(test::default_config());
+  EXPECT_LT(drift, 0.01) << "load position left the helix by " << drift << " m";
+}
+
+TEST(ElPlant, ThesisLiteralReferenceAttitudeLeavesTheHelix) {
+  // Documented deviation: holding phi, theta, gamma, alpha at the hover equilibrium
+  // while the load accelerates makes (5.4) a least-squares fit; its residual drives
+  // the open-loop plant off the helix. This is why the trim attitude is the default.
+  Config cfg = test::default_config();
+  cfg.reference.attitude = ReferenceAttitude::Equilibrium;
+  EXPECT_GT(feedforward_drift(cfg), 0.1);
 }
 
 TEST(ElPlant, RejectsUnknownPlantKinds) {

@@ -55,6 +55,12 @@ struct VehicleParams {
   Eigen::Matrix3d rotor_inertia_about_com() const;
 };
 
+/// Attitude of the reference (the coordinates that are not tracked).
+enum class ReferenceAttitude {
+  Trim,         ///< dynamically consistent: phi, theta, gamma, alpha trimmed for the acceleration
+  Equilibrium,  ///< thesis-literal: held at the hover equilibrium; (5.4) then has a residual
+};
+
 /// Helix reference, thesis section 6.2:
 /// x = cx + r cos(w t), y = cy + r sin(w t), z = z0 - a cos(w t), psi = psi_r.
 struct HelixReference {
@@ -65,6 +71,7 @@ struct HelixReference {
   double z_amplitude = 0.0;  // m
   double angular_rate = 0.0; // rad/s (pi/40 in the thesis)
   double yaw = 0.0;          // rad
+  ReferenceAttitude attitude = ReferenceAttitude::Trim;
 };
 
 /// A constant force on the load switched on at `time` (thesis Table 6.1).

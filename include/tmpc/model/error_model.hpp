@@ -1,7 +1,9 @@
 // Linear error model along the helix, thesis section 5.2:
 //   x_tilde' = A(sigma) x_tilde + B u_tilde + D d                            (5.5)
-//   sigma = xi_r'' (3 parameters): u_r is affine in sigma, so is A (at q_r' = 0)
-//   A(sigma) = A_0 + sum_i sigma_i A_i, vertices at the 8 corners of sigma's box
+//   sigma = xi_r'' (3 parameters). With the thesis-literal reference attitude u_r is
+//   affine in sigma, hence so is A (at q_r' = 0); with the trim attitude (default)
+//   it nearly is. A(sigma) = A_0 + sum_i sigma_i A_i with A_0 at sigma = 0 and A_i
+//   the secant of A over sigma_i's range; vertices at the 8 corners of sigma's box
 //   augmented with the integrals of the x, y, z, psi errors:                 (5.6)-(5.7)
 //   A_a = [A 0; C 0], B_a = [B; 0], D_a = [D; 0]
 //   discrete: exact ZOH (default) or Euler A_z = I + A_a T (thesis (5.8), E1)
@@ -32,14 +34,15 @@ using Mat24x3 = Eigen::Matrix<double, kNa, kNd>;
 /// Continuous LPV model of the 20 mechanical error states.
 struct LpvModel {
   Mat20 A0;                                ///< A at sigma = 0 (hover)
-  std::vector<Mat20> A_sigma;              ///< A_i = dA/dsigma_i, i = x, y, z
-  Eigen::Matrix<double, kNx, kNu> B;       ///< constant along the helix (angles fixed)
+  std::vector<Mat20> A_sigma;              ///< A_i: secant slope over sigma_i's range, i = x, y, z
+  Eigen::Matrix<double, kNx, kNu> B;       ///< at sigma = 0 (thesis: constant)
   Eigen::Matrix<double, kNx, kNd> D;
   Eigen::Vector3d sigma_min, sigma_max;    ///< box of the reference acceleration
   std::vector<Eigen::Vector3d> vertex_sigma;  ///< 8 corners
   double affinity_residual = 0.0;          ///< max_t ||A(t) - A_lpv(sigma(t))||_F / ||A0||_F
   double affinity_residual_relative = 0.0; ///< same, relative to max_t ||A(t) - A0||_F
   double sigma_part = 0.0;                 ///< max_t ||A_lpv(sigma(t)) - A0||_F / ||A0||_F
+  double b_variation = 0.0;                ///< max_t ||B(t) - B||_F / ||B||_F (0 for the literal attitude)
   Mat20 at(const Eigen::Vector3d& sigma) const;
 };
 

@@ -1,6 +1,7 @@
 // Helix reference of thesis section 6.2 and the feedforward input (5.4).
-//   x_r = cx + r cos(w t), y_r = cy + r sin(w t), z_r = z0 - a cos(w t), psi_r const,
-//   the other coordinates at the hover equilibrium, their rates zero.
+//   x_r = cx + r cos(w t), y_r = cy + r sin(w t), z_r = z0 - a cos(w t), psi_r const;
+//   phi, theta, gamma, alpha: the trim for the helix's acceleration (default) or the
+//   hover equilibrium (thesis-literal); their rates are zero (quasi-static).
 //   u_r = L_in(q_r)^# (M(q_r) q_r'' + [C(q_r, q_r') + L_fr] q_r' + G(q_r))      (5.4)
 #pragma once
 
@@ -8,6 +9,7 @@
 
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/dynamics.hpp"
+#include "tmpc/model/equilibrium.hpp"
 
 namespace tmpc {
 
@@ -22,15 +24,17 @@ struct ReferencePoint {
 
 class HelixTrajectory {
  public:
-  /// `equilibrium_angles` = (gamma_1, gamma_2, alpha_r, alpha_l) of the hover equilibrium.
-  HelixTrajectory(const HelixReference& helix, const Eigen::Vector4d& equilibrium_angles);
+  /// Solves the hover equilibrium of `model`; `model` must outlive the trajectory.
+  HelixTrajectory(const HelixReference& helix, const TiltrotorModel& model);
 
   ReferencePoint at(double t) const;
   const HelixReference& helix() const { return helix_; }
+  const Equilibrium& equilibrium() const { return equilibrium_; }
 
  private:
   HelixReference helix_;
-  Eigen::Vector4d angles_;
+  const TiltrotorModel* model_;
+  Equilibrium equilibrium_;
 };
 
 /// Feedforward u_r of (5.4) by the pseudo-inverse of L_in.
