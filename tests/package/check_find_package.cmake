@@ -1,0 +1,23 @@
+# Install tmpc into a scratch prefix, build a consumer with find_package(tmpc), run it.
+set(prefix ${BIN}/package_test/prefix)
+set(cbuild ${BIN}/package_test/consumer)
+file(REMOVE_RECURSE ${BIN}/package_test)
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${BIN} --prefix ${prefix} RESULT_VARIABLE rc OUTPUT_QUIET)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cmake --install failed")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SRC}/tests/package/consumer -B ${cbuild} -DCMAKE_PREFIX_PATH=${prefix}
+                        -DCMAKE_BUILD_TYPE=Release RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "consumer configure failed: ${out}${err}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${cbuild} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "consumer build failed: ${out}${err}")
+endif()
+execute_process(COMMAND ${cbuild}/consumer ${prefix}/share/tmpc/config/tiltrotor.yaml RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "consumer failed: ${out}")
+endif()
+message(STATUS "find_package(tmpc) consumer: ${out}")
