@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Run the benchmarks and keep the JSON (with the machine described) under
+# bench/results/<host>-<date>.json. Extra arguments go to Google Benchmark.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/build.sh >/dev/null
+mkdir -p bench/results
+out="bench/results/$(hostname -s)-$(date +%Y%m%d-%H%M%S).json"
+cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -n1)
+./build/bench/tmpc_bench --benchmark_out="$out" --benchmark_out_format=json \
+  --benchmark_context=cpu_model="$cpu" --benchmark_context=kernel="$(uname -r)" \
+  --benchmark_context=cores="$(nproc)" "$@"
+echo "results: $out"
