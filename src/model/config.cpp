@@ -283,7 +283,7 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     Section s = root.section("simulation");
     c.simulation.duration = s.number_in("duration", 0.0, 1e6);
     c.simulation.substep = s.number_in("substep", 1e-6, 0.1);
-    c.simulation.plant = s.text("plant", {"el"});
+    c.simulation.plant = s.text("plant", {"el", "mujoco"});
     s.finish();
     const double ratio = c.sample_time / c.simulation.substep;
     if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio) {

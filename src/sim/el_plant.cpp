@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "tmpc/sim/perturbation.hpp"
 
 namespace tmpc {
 
@@ -18,25 +17,19 @@ void ElPlant::reset(const State20& x0, double t0) {
 }
 
 void ElPlant::advance(const Eigen::Vector4d& u, double dt) {
-  const int n = std::max(1, static_cast<int>(std::ceil(dt / substep_ - 1e-9)));
-  const double h = dt / n;
-  for (int i = 0; i < n; ++i) {
-    const double t = t_;
-    const State20 k1 = model_.state_derivative(x_, u, disturbance_.force(t));
-    const State20 k2 = model_.state_derivative(x_ + 0.5 * h * k1, u, disturbance_.force(t + 0.5 * h));
-    const State20 k3 = model_.state_derivative(x_ + 0.5 * h * k2, u, disturbance_.force(t + 0.5 * h));
-    const State20 k4 = model_.state_derivative(x_ + h * k3, u, disturbance_.force(t + h));
+  const long n = std::max(1L, static_cast<long>(std::llround(dt / substep_)));
+  const double h = dt / static_cast<double>(n);
+  for (long i = 0; i < n; ++i) {
+    // The disturbance is constant over a sub-step, taken at its midpoint, so a step
+    // at a sub-step boundary switches cleanly (and both plants agree).
+    const Eigen::Vector3d d = disturbance_.force(t_ + 0.5 * h);
+    const State20 k1 = model_.state_derivative(x_, u, d);
+    const State20 k2 = model_.state_derivative(x_ + 0.5 * h * k1, u, d);
+    const State20 k3 = model_.state_derivative(x_ + 0.5 * h * k2, u, d);
+    const State20 k4 = model_.state_derivative(x_ + h * k3, u, d);
     x_ += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-    t_ = t + h;
+    t_ += h;
   }
-}
-
-std::unique_ptr<Plant> make_plant(const std::string& kind, const Config& cfg, bool with_disturbance, int run) {
-  VehicleParams params = cfg.vehicle;
-  if (run >= 0) params = apply_mass_scaling(params, draw_mass_scaling(cfg.perturbation, run));
-  DisturbanceSchedule schedule(with_disturbance ? cfg.disturbances : std::vector<DisturbanceStep>{});
-  if (kind == "el") return std::make_unique<ElPlant>(params, std::move(schedule), cfg.simulation.substep);
-  throw std::invalid_argument("unknown plant '" + kind + "' (available: el)");
 }
 
 }  // namespace tmpc

@@ -93,7 +93,7 @@ enum class Discretization { Zoh, Euler };
 struct SimulationSettings {
   double duration = 0.0;   // s, mission length
   double substep = 0.0;    // s, RK4 step of the plant
-  std::string plant;       // "el" (Euler-Lagrange)
+  std::string plant;       // "el" (Euler-Lagrange) or "mujoco"
 };
 
 /// Settings for the linear error model (thesis 5.2).
