@@ -8,6 +8,9 @@ namespace tmpc::cli {
 /// `tmpc model --config FILE [--json]`: equilibrium, feedforward, linear error model.
 void register_model(CLI::App& app);
 
+/// `tmpc openloop` and `tmpc crosscheck`: commands that run a plant.
+void register_plant(CLI::App& app);
+
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
 

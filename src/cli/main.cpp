@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "tmpc 0.1.0");
   tmpc::cli::register_model(app);
+  tmpc::cli::register_plant(app);
   tmpc::cli::register_devices(app);
   try {
     app.parse(argc, argv);
