@@ -5,7 +5,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libspdlog-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libmujoco-dev
+  libmujoco-dev libsdp-dev
   python3 python3-numpy
 )
 missing=()

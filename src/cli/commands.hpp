@@ -11,6 +11,9 @@ void register_model(CLI::App& app);
 /// `tmpc openloop` and `tmpc crosscheck`: commands that run a plant.
 void register_plant(CLI::App& app);
 
+/// `tmpc design`, `tmpc inspect`, `tmpc export-qp`: offline synthesis.
+void register_design(CLI::App& app);
+
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
 

@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "tmpc/model/config.hpp"
+#include "tmpc/synthesis/artifact.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"tmpc: real-time tube MPC (design, simulation, control)"};
@@ -13,11 +14,15 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "tmpc 0.1.0");
   tmpc::cli::register_model(app);
   tmpc::cli::register_plant(app);
+  tmpc::cli::register_design(app);
   tmpc::cli::register_devices(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const tmpc::ArtifactError& e) {
+    std::fprintf(stderr, "tmpc: controller artifact error: %s\n", e.what());
+    return 2;
   } catch (const tmpc::ConfigError& e) {
     std::fprintf(stderr, "tmpc: configuration error: %s\n", e.what());
     return 2;

@@ -67,6 +67,14 @@ class Section {
     }
     fail(key(k), "unknown value '" + s + "' (expected one of: " + list + ")");
   }
+  bool flag(const std::string& k) {
+    YAML::Node n = raw(k);
+    if (!n.IsScalar()) fail(key(k), "expected true or false");
+    const std::string v = n.as<std::string>();
+    if (v == "true") return true;
+    if (v == "false") return false;
+    fail(key(k), "expected true or false, got '" + v + "'");
+  }
   std::vector<double> vector(const std::string& k, std::size_t n) {
     return vector_of(raw(k), key(k), n);
   }
@@ -303,7 +311,59 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     Section s = root.section("solver");
     c.solver.admm_epsilon = s.number_in("admm_epsilon", 1e-12, 1.0);
     c.solver.admm_eta = s.number_in("admm_eta", 1e-6, 1.0 - 1e-12);
-    c.solver.rpi_lambda = s.number_in("rpi_lambda", 1e-9, 1.0 - 1e-9);
+    s.finish();
+  }
+
+  {
+    Section s = root.section("synthesis");
+    SynthesisSettings& y = c.synthesis;
+    y.tube_gain = s.text("tube_gain", {"lqr", "lmi_thesis", "lmi_robust"});
+    y.compare_gains = s.flag("compare_gains");
+    {
+      Section l = s.section("lmi");
+      YAML::Node lam = l.raw("lambda");
+      if (lam.IsScalar() && lam.as<std::string>() == "search") {
+        y.lmi_lambda = "search";
+      } else {
+        y.lmi_lambda = std::to_string(l.number_in("lambda", 1e-6, 1.0 - 1e-9));
+      }
+      y.lmi_w_floor = l.number_in("w_floor", 0.0, 1.0);
+      y.lmi_vertices = l.flag("vertices");
+      y.lmi_certify_steps = static_cast<int>(l.number_in("certify_steps", 0.0, 100.0));
+      l.finish();
+    }
+    {
+      Section r = s.section("rpi");
+      y.rpi_variant = r.text("variant", {"lti", "lpv_thesis", "lpv_robust"});
+      y.rpi_lambda = r.number_in("lambda", 1e-9, 1.0 - 1e-9);
+      y.verify_directions = static_cast<int>(r.number_in("verify_directions", 0.0, 1e6));
+      r.finish();
+    }
+    {
+      Section w = s.section("uncertainty");
+      y.w_source = w.text("source", {"box", "sampled"});
+      YAML::Node f = w.raw("state_fraction");
+      if (f.IsSequence()) {
+        y.w_state_fraction = to_eigen<24>(w.vector("state_fraction", 24));
+      } else {
+        y.w_state_fraction.setConstant(w.number("state_fraction"));
+      }
+      for (int i = 0; i < 24; ++i) {
+        if (!(y.w_state_fraction[i] >= 0.0 && y.w_state_fraction[i] < 1.0)) {
+          w.fail(w.key("state_fraction"), "must be in [0, 1)");
+        }
+      }
+      y.w_disturbance = vec3(w, "disturbance");
+      if ((y.w_disturbance.array() < 0.0).any()) w.fail(w.key("disturbance"), "half-widths must be >= 0");
+      y.w_samples = static_cast<int>(w.number_in("samples", 1.0, 1e7));
+      y.w_sample_fraction = w.number_in("sample_fraction", 0.0, 0.9);
+      y.w_sample_box = w.number_in("sample_box", 0.0, 1.0);
+      w.finish();
+    }
+    y.terminal_cost = s.text("terminal_cost", {"lqr", "lmi"});
+    y.horizon = static_cast<int>(s.number_in("horizon", 1.0, 1000.0));
+    y.control_horizon = static_cast<int>(s.number_in("control_horizon", 1.0, 1000.0));
+    if (y.control_horizon > y.horizon) s.fail(s.key("control_horizon"), "must be <= horizon (M <= N)");
     s.finish();
   }
 

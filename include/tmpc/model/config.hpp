@@ -105,7 +105,28 @@ struct ErrorModelSettings {
 struct SolverSettings {
   double admm_epsilon = 0.0;  // thesis 6.4
   double admm_eta = 0.0;      // restart factor, Algorithm 4.2
-  double rpi_lambda = 0.0;    // relative error bound of (3.34)
+};
+
+/// Offline synthesis (thesis ch. 3; DESIGN.md section 4).
+struct SynthesisSettings {
+  std::string tube_gain;        // "lqr" | "lmi_thesis" | "lmi_robust"
+  bool compare_gains = true;    // compute every gain's tube for the report
+  std::string lmi_lambda;       // "search" or a number in (0, 1)
+  double lmi_w_floor = 0.0;     // W >= w_floor I (normalized coordinates)
+  bool lmi_vertices = true;     // LMIs at every LPV vertex (else nominal only)
+  int lmi_certify_steps = 0;    // robust form: bisection steps for the largest W it certifies
+  std::string rpi_variant;      // "lti" | "lpv_thesis" | "lpv_robust"
+  double rpi_lambda = 0.0;      // relative error bound of (3.34)
+  std::string w_source;         // "box" | "sampled"
+  Eigen::Matrix<double, 24, 1> w_state_fraction;  // W_u half-widths / state half-widths
+  Eigen::Vector3d w_disturbance = Eigen::Vector3d::Zero();  // N, half-widths of D (W_d = D_z D)
+  int w_samples = 0;            // sampled W: number of samples
+  double w_sample_fraction = 0.0;  // sampled W: mass/inertia perturbation
+  double w_sample_box = 0.0;    // sampled W: error states drawn in this fraction of the state box
+  std::string terminal_cost;    // "lqr" | "lmi"
+  int horizon = 0;              // N
+  int control_horizon = 0;      // M <= N
+  int verify_directions = 0;    // support-function directions for the invariance check
 };
 
 struct Config {
@@ -122,6 +143,7 @@ struct Config {
   SimulationSettings simulation;
   ErrorModelSettings error_model;
   SolverSettings solver;
+  SynthesisSettings synthesis;
 };
 
 /// Load and validate a YAML config. Throws ConfigError naming file and key.

@@ -1,0 +1,51 @@
+// Nominal MPC problem data, thesis (3.50)-(3.55), in normalized coordinates:
+//   x_hat = P u_hat + Q x0,  x_hat = (x(1), ..., x(N)),  u_hat = (u(0), ..., u(M-1))  (3.53)
+//   P with move blocking: u(i) = u(M-1) for i >= M (the eps(k, j) column sums of (3.53))
+//   V = x_hat' W_x x_hat + u_hat' W_u u_hat                                            (3.54)
+//   W_x = blkdiag(Sigma_rho, ..., Sigma_rho, L),
+//   W_u = blkdiag(Sigma_lambda, ..., Sigma_lambda, (N - M + 1) Sigma_lambda)
+//     (the last input is applied N - M + 1 times in (3.50); (3.54) omits the factor)
+//   u(i) in U_bar (i < M), x(i) in X_bar (i = 1..N)                                   (3.55)
+// Condensed form for solvers: min 1/2 z'H z + (F x0)'z  s.t.  l(x0) <= A z <= u(x0),
+//   H = 2 (P'W_x P + W_u), F = 2 P'W_x Q, A = [I; P], bounds [U_bar; X_bar - Q x0].
+#pragma once
+
+#include <Eigen/Core>
+
+#include "tmpc/sets/box.hpp"
+
+namespace tmpc {
+
+struct MpcQpData {
+  int n = 0, m = 0, N = 0, M = 0;
+  Eigen::MatrixXd A, B;            ///< nominal model (normalized)
+  Eigen::MatrixXd Sigma_rho, Sigma_lambda, L;  ///< stage and terminal weights (normalized)
+  Box x_bar, u_bar;                ///< tightened sets (normalized)
+  Eigen::MatrixXd P, Q;            ///< prediction matrices (3.53)
+  Eigen::MatrixXd H, F;            ///< condensed Hessian and linear-term map
+  int variables() const { return M * m; }
+  int state_constraints() const { return N * n; }
+  Eigen::MatrixXd Wx() const;      ///< dense W_x
+  Eigen::MatrixXd Wu() const;      ///< dense W_u
+};
+
+/// Build P, Q, W_x, W_u and the condensed H, F. Throws on inconsistent sizes.
+MpcQpData build_mpc_qp(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Sigma_rho,
+                       const Eigen::MatrixXd& Sigma_lambda, const Eigen::MatrixXd& L, const Box& x_bar,
+                       const Box& u_bar, int N, int M);
+
+/// One QP instance: min 1/2 z'Hz + f'z  s.t.  lo <= A z <= hi.
+struct CondensedQp {
+  Eigen::MatrixXd H;
+  Eigen::VectorXd f;
+  Eigen::MatrixXd A;
+  Eigen::VectorXd lo, hi;
+  double constant = 0.0;  ///< x0' Q' W_x Q x0: the cost V = 1/2 z'Hz + f'z + constant
+};
+
+CondensedQp condensed_qp(const MpcQpData& d, const Eigen::VectorXd& x0);
+
+/// The full cost V(u_hat) of (3.54) at x0, evaluated directly from P, Q, W_x, W_u.
+double mpc_cost(const MpcQpData& d, const Eigen::VectorXd& x0, const Eigen::VectorXd& u_hat);
+
+}  // namespace tmpc

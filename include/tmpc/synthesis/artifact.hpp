@@ -1,0 +1,71 @@
+// The controller artifact: one binary file with everything the online controller
+// needs, versioned and checksummed.
+//
+//   offset 0   8 bytes  magic "TMPCART\0"
+//          8   u32      format version (kArtifactVersion)
+//         12   u64      payload length P
+//         20   P bytes  records: u16 name length, name, u8 kind, then
+//                         kind 1 (matrix): u32 rows, u32 cols, rows*cols f64, column-major
+//                         kind 2 (text):   u64 length, bytes
+//                         kind 3 (int):    i64
+//     20 + P   u32      CRC-32 (IEEE 802.3) of bytes [0, 20 + P)
+// All integers little-endian, f64 IEEE-754. Loading rejects a wrong magic or
+// version, a truncated or extended file, a checksum mismatch, an unknown or
+// malformed record and every dimension mismatch, with a message naming it.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "tmpc/qp/mpc_qp.hpp"
+#include "tmpc/sets/box.hpp"
+#include "tmpc/sets/zonotope.hpp"
+
+namespace tmpc {
+
+constexpr std::uint32_t kArtifactVersion = 1;
+
+class ArtifactError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ControllerDesign;
+
+/// Immutable controller model, normalized coordinates (x_n = N_x x, u_n = N_u u).
+struct ControllerArtifact {
+  std::string config_text;       ///< the YAML the design came from
+  std::string tube_gain, rpi_variant, terminal_cost;
+  double sample_time = 0.0;
+  int n = 0, m = 0, N = 0, M = 0;
+  Eigen::VectorXd N_x, N_u;
+  Eigen::MatrixXd A, B, D;       ///< nominal model
+  std::vector<Eigen::MatrixXd> A_vertices;
+  Eigen::MatrixXd K, K_lqr, P_lqr, L;
+  Eigen::MatrixXd Sigma_rho, Sigma_lambda;
+  Box X, U, x_bar, u_bar;
+  Zonotope Z, W;
+  Eigen::Vector4d u_eq;          ///< hover inputs (physical)
+  Eigen::Vector4d angles_eq;     ///< hover gamma_1, gamma_2, alpha_r, alpha_l
+  double margin = 0.0;
+
+  /// QP data (3.50)-(3.55) rebuilt from the stored model, weights and sets.
+  MpcQpData qp() const;
+};
+
+ControllerArtifact make_artifact(const ControllerDesign& d);
+
+std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a);
+/// `source` names the data in error messages (a file name).
+ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, const std::string& source);
+
+void save_artifact(const ControllerArtifact& a, const std::string& path);
+ControllerArtifact load_artifact(const std::string& path);
+
+std::uint32_t crc32(const std::uint8_t* data, std::size_t n);
+
+}  // namespace tmpc

@@ -1,0 +1,206 @@
+// Offline synthesis commands:
+//   tmpc design --config FILE --out FILE.tmpc [--report FILE.json]
+//   tmpc inspect FILE.tmpc [--json]
+//   tmpc export-qp --controller FILE.tmpc --x0 "v1,...,v24" --out qp.json
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "tmpc/model/config.hpp"
+#include "tmpc/synthesis/artifact.hpp"
+#include "tmpc/synthesis/design.hpp"
+
+namespace tmpc::cli {
+
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+struct DesignOptions {
+  std::string config = "config/tiltrotor.yaml";
+  std::string out;
+  std::string report;
+};
+
+void run_design(const DesignOptions& o) {
+  const std::string text = read_file(o.config);
+  const Config cfg = load_config_from_string(text, o.config);
+  const ControllerDesign d = design_controller(cfg, text, [](const std::string& m) {
+    std::fprintf(stderr, "tmpc design: %s ...\n", m.c_str());
+  });
+  const ControllerArtifact a = make_artifact(d);
+  save_artifact(a, o.out);
+  if (!o.report.empty()) {
+    std::ofstream r(o.report);
+    if (!r) throw std::runtime_error(o.report + ": cannot write");
+    r << design_report_json(d) << "\n";
+  }
+  const GainDesign& g = d.gains[static_cast<std::size_t>(d.selected)];
+  std::printf("design of %s in %.1f s (error model %.1f, W %.1f, gains %.1f, tubes and margins %.1f, checks %.1f)\n",
+              o.config.c_str(), d.seconds.total, d.seconds.error_model, d.seconds.uncertainty, d.seconds.gains,
+              d.seconds.rpi, d.seconds.checks);
+  std::printf("W: %s\n", d.w_description.c_str());
+  std::printf("gains (tube variant %s):\n", cfg.synthesis.rpi_variant.c_str());
+  for (const GainDesign& gi : d.gains) {
+    if (!gi.available) {
+      std::printf("  %-11s not available: %s\n", gi.name.c_str(), gi.message.c_str());
+      continue;
+    }
+    double worst = 0.0;
+    for (double r : gi.vertex_spectral_radius) worst = std::max(worst, r);
+    std::printf("  %-11s spectral radius %.6f (worst vertex %.6f), j = %d, margin %.3f%s%s\n", gi.name.c_str(),
+                gi.vertex_spectral_radius.front(), worst, gi.j, gi.margin, gi.tube_ok ? "" : ", tube: ",
+                gi.tube_ok ? "" : gi.tube_message.c_str());
+  }
+  std::printf("selected: %s; RPI j = %d, alpha = %.4f, %d generators, invariance (support, %d directions): worst "
+              "ratio %.6f\n",
+              g.name.c_str(), d.tube.j, d.tube.alpha, d.tube.Z.order(), d.support_check.directions,
+              d.support_check.worst_ratio);
+  std::printf("tightened sets non-empty; robustness margin %.3f (W may grow by this factor)\n", d.margin);
+  std::printf("set sizes (1-norm radius / volume of the interval hulls):\n");
+  for (const VariantComparison& v : d.variants) {
+    if (!v.ok) {
+      std::printf("  %-10s %s\n", v.variant.c_str(), v.message.c_str());
+      continue;
+    }
+    std::printf("  %-10s Z %.4g / %.3g   X_bar %.4g / %.3g   U_bar %.4g / %.3g   support ratio %.4f %s\n",
+                v.variant.c_str(), v.z.one_norm_radius, v.z.volume, v.x_bar.one_norm_radius, v.x_bar.volume,
+                v.u_bar.one_norm_radius, v.u_bar.volume, v.support_ratio, v.message.c_str());
+  }
+  std::printf("QP: N = %d, M = %d, %d variables, %d constraints\n", d.qp.N, d.qp.M, d.qp.variables(),
+              d.qp.variables() + d.qp.state_constraints());
+  std::printf("artifact: %s\n", o.out.c_str());
+  if (!o.report.empty()) std::printf("report: %s\n", o.report.c_str());
+}
+
+void run_inspect(const std::string& file, bool json) {
+  const ControllerArtifact a = load_artifact(file);
+  if (json) {
+    nlohmann::json j = {{"format_version", kArtifactVersion}, {"n", a.n}, {"m", a.m}, {"N", a.N}, {"M", a.M},
+                        {"sample_time", a.sample_time}, {"tube_gain", a.tube_gain}, {"rpi_variant", a.rpi_variant},
+                        {"terminal_cost", a.terminal_cost}, {"vertices", a.A_vertices.size()},
+                        {"z_generators", a.Z.order()}, {"robustness_margin", a.margin}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("%s: tmpc controller artifact, format version %u\n", file.c_str(), kArtifactVersion);
+  std::printf("  %d states, %d inputs, T = %.4g s, horizons N = %d, M = %d\n", a.n, a.m, a.sample_time, a.N, a.M);
+  std::printf("  tube gain %s, RPI %s (%d generators), terminal cost %s, %zu LPV vertices\n", a.tube_gain.c_str(),
+              a.rpi_variant.c_str(), a.Z.order(), a.terminal_cost.c_str(), a.A_vertices.size());
+  std::printf("  robustness margin %.3f\n", a.margin);
+  std::printf("  tightened input set (physical, error coordinates):\n");
+  for (int i = 0; i < a.m; ++i) {
+    std::printf("    %-6s [%.4f, %.4f] of [%.4f, %.4f]\n", kInputNames[i], a.u_bar.lo(i) / a.N_u(i),
+                a.u_bar.hi(i) / a.N_u(i), a.U.lo(i) / a.N_u(i), a.U.hi(i) / a.N_u(i));
+  }
+  std::printf("  tightened state set: half-width kept per state (physical):\n");
+  for (int i = 0; i < a.n; ++i) {
+    std::printf("    %-12s +-%.4g of +-%.4g\n", kStateNames[i], a.x_bar.hi(i) / a.N_x(i), a.X.hi(i) / a.N_x(i));
+  }
+}
+
+struct ExportOptions {
+  std::string controller;
+  std::string x0;
+  std::string out;
+};
+
+Eigen::VectorXd parse_vector(const std::string& s, int n, const std::string& what) {
+  std::vector<double> v;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (item.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::runtime_error(what + ": '" + item + "' is not a number");
+    }
+  }
+  if (static_cast<int>(v.size()) != n) {
+    throw std::runtime_error(what + ": expected " + std::to_string(n) + " comma-separated values, got " + std::to_string(v.size()));
+  }
+  Eigen::VectorXd out(n);
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[static_cast<std::size_t>(i)])) throw std::runtime_error(what + ": value " + std::to_string(i) + " is not finite");
+    out(i) = v[static_cast<std::size_t>(i)];
+  }
+  return out;
+}
+
+void run_export(const ExportOptions& o) {
+  const ControllerArtifact a = load_artifact(o.controller);
+  const Eigen::VectorXd x0 = parse_vector(o.x0, a.n, "--x0");
+  const MpcQpData d = a.qp();
+  const CondensedQp qp = condensed_qp(d, x0);
+  auto mat = [](const Eigen::MatrixXd& m) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+      std::vector<double> r(static_cast<std::size_t>(m.cols()));
+      for (Eigen::Index j = 0; j < m.cols(); ++j) r[static_cast<std::size_t>(j)] = m(i, j);
+      rows.push_back(r);
+    }
+    return rows;
+  };
+  auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  std::vector<std::string> vars;
+  for (int k = 0; k < a.M; ++k) {
+    for (int i = 0; i < a.m; ++i) vars.push_back(std::string("u_bar[") + std::to_string(k) + "]." + kInputNames[i]);
+  }
+  nlohmann::json j = {
+      {"form", "minimize 1/2 z'Hz + f'z subject to lo <= A z <= hi (normalized coordinates)"},
+      {"controller", o.controller},
+      {"x0", vec(x0)},
+      {"variables", vars},
+      {"H", mat(qp.H)},
+      {"f", vec(qp.f)},
+      {"A", mat(qp.A)},
+      {"lo", vec(qp.lo)},
+      {"hi", vec(qp.hi)},
+      {"constant", qp.constant},
+      {"N_u", vec(a.N_u)},
+  };
+  std::ofstream out(o.out);
+  if (!out) throw std::runtime_error(o.out + ": cannot write");
+  out << j.dump() << "\n";
+  std::printf("QP with %zu variables and %ld constraint rows written to %s\n", vars.size(), static_cast<long>(qp.A.rows()),
+              o.out.c_str());
+}
+
+}  // namespace
+
+void register_design(CLI::App& app) {
+  auto d = std::make_shared<DesignOptions>();
+  CLI::App* sub = app.add_subcommand("design", "Offline tube synthesis: gain, RPI set, tightened sets, QP data");
+  sub->add_option("--config", d->config, "design configuration (YAML)")->check(CLI::ExistingFile);
+  sub->add_option("--out", d->out, "controller artifact to write")->required();
+  sub->add_option("--report", d->report, "JSON report to write");
+  sub->callback([d]() { run_design(*d); });
+
+  auto file = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  CLI::App* ins = app.add_subcommand("inspect", "Print what a controller artifact holds");
+  ins->add_option("file", *file, "controller artifact")->required();
+  ins->add_flag("--json", *json, "print JSON");
+  ins->callback([file, json]() { run_inspect(*file, *json); });
+
+  auto e = std::make_shared<ExportOptions>();
+  CLI::App* ex = app.add_subcommand("export-qp", "Write the nominal QP for one state as solver-neutral JSON");
+  ex->add_option("--controller", e->controller, "controller artifact")->required();
+  ex->add_option("--x0", e->x0, "normalized nominal state, 24 comma-separated values")->required();
+  ex->add_option("--out", e->out, "JSON file to write")->required();
+  ex->callback([e]() { run_export(*e); });
+}
+
+}  // namespace tmpc::cli

@@ -1,0 +1,113 @@
+// JSON report of a design (stable keys; matrices as lists of rows).
+#include <nlohmann/json.hpp>
+
+#include "tmpc/synthesis/design.hpp"
+
+namespace tmpc {
+
+namespace {
+
+nlohmann::json matrix(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    std::vector<double> r(static_cast<std::size_t>(m.cols()));
+    for (Eigen::Index j = 0; j < m.cols(); ++j) r[static_cast<std::size_t>(j)] = m(i, j);
+    rows.push_back(r);
+  }
+  return rows;
+}
+nlohmann::json vec(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+nlohmann::json size(const SetSize& s) { return {{"one_norm_radius", s.one_norm_radius}, {"volume", s.volume}}; }
+/// A normalized box, with its physical equivalent (divided by the scaling).
+nlohmann::json box(const Box& b, const Eigen::VectorXd& scale) {
+  return {{"lo", vec(b.lo)},
+          {"hi", vec(b.hi)},
+          {"lo_physical", vec(b.lo.cwiseQuotient(scale))},
+          {"hi_physical", vec(b.hi.cwiseQuotient(scale))}};
+}
+
+}  // namespace
+
+std::string design_report_json(const ControllerDesign& d) {
+  nlohmann::json j;
+  const SynthesisSettings& s = d.cfg.synthesis;
+  j["config"] = d.cfg.source;
+  j["coordinates"] = "normalized: x_n = N_x x, u_n = N_u u (physical values given as *_physical)";
+  j["state_names"] = std::vector<std::string>(kStateNames, kStateNames + 24);
+  j["input_names"] = std::vector<std::string>(kInputNames, kInputNames + 4);
+  j["time_s"] = {{"error_model", d.seconds.error_model}, {"uncertainty", d.seconds.uncertainty},
+                 {"gains", d.seconds.gains},             {"rpi_and_margins", d.seconds.rpi},
+                 {"checks", d.seconds.checks},           {"qp", d.seconds.qp},
+                 {"total", d.seconds.total}};
+  j["error_model"] = {{"discretization", d.em.discretization == Discretization::Zoh ? "zoh" : "euler"},
+                      {"sample_time", d.em.sample_time},
+                      {"lpv_vertices", d.em.A_vertices.size()},
+                      {"affinity_residual", d.em.lpv.affinity_residual},
+                      {"N_x", vec(d.em.N_x)},
+                      {"N_u", vec(d.em.N_u)}};
+  j["uncertainty"] = {{"description", d.w_description},
+                      {"generators", d.W.order()},
+                      {"half_widths", vec(d.W.radius())},
+                      {"half_widths_physical", vec(d.W.radius().cwiseQuotient(d.em.N_x))}};
+  nlohmann::json gains = nlohmann::json::array();
+  for (const GainDesign& g : d.gains) {
+    nlohmann::json gj = {{"name", g.name}, {"available", g.available}, {"message", g.message}, {"seconds", g.seconds}};
+    if (g.available) {
+      gj["K"] = matrix(g.K);
+      gj["spectral_radius"] = {{"nominal", g.vertex_spectral_radius.front()},
+                               {"vertices", std::vector<double>(g.vertex_spectral_radius.begin() + 1, g.vertex_spectral_radius.end())}};
+      gj["tube"] = {{"ok", g.tube_ok},
+                    {"message", g.tube_message},
+                    {"j", g.j},
+                    {"alpha", g.alpha},
+                    {"generators", g.generators},
+                    {"z_hull_over_box", g.tube_ok || g.generators > 0 ? vec(g.z_hull.half_width()) : nlohmann::json()},
+                    {"robustness_margin", g.margin}};
+    }
+    if (g.name != "lqr") {
+      gj["lmi"] = {{"status", to_string(g.lmi.status)},
+                   {"lambda", g.lmi.lambda},
+                   {"kappa", g.lmi.kappa},
+                   {"solver_seconds", g.lmi.seconds},
+                   {"variables", g.lmi.variables},
+                   {"worst_block_eigenvalue", g.lmi.worst_block_eigenvalue},
+                   {"input_bound_ratio", g.lmi.input_bound_ratio},
+                   {"zeta_norm", g.lmi.zeta.size() > 0 ? g.lmi.zeta.norm() : 0.0},
+                   {"certified_w_scale", g.certified_w_scale},
+                   {"refuted_w_scale", g.refuted_w_scale}};
+    }
+    gains.push_back(gj);
+  }
+  j["gains"] = gains;
+  const GainDesign& sel = d.gains[static_cast<std::size_t>(d.selected)];
+  j["selected_gain"] = sel.name;
+  j["K"] = matrix(d.K);
+  j["K_lqr"] = matrix(d.K_lqr);
+  j["spectral_radius"] = {{"nominal", sel.vertex_spectral_radius.front()},
+                          {"vertices", std::vector<double>(sel.vertex_spectral_radius.begin() + 1, sel.vertex_spectral_radius.end())}};
+  j["rpi"] = {{"variant", s.rpi_variant},
+              {"lambda", s.rpi_lambda},
+              {"j", d.tube.j},
+              {"alpha", d.tube.alpha},
+              {"generators", d.tube.Z.order()},
+              {"lpv_iterations", d.tube.lpv_iterations},
+              {"w_box_hull", d.tube.w_box_hull},
+              {"support_check", {{"worst_ratio", d.support_check.worst_ratio},
+                                 {"worst_vertex", d.support_check.worst_vertex},
+                                 {"directions", d.support_check.directions}}}};
+  nlohmann::json variants = nlohmann::json::array();
+  for (const VariantComparison& v : d.variants) {
+    variants.push_back({{"variant", v.variant}, {"ok", v.ok}, {"message", v.message}, {"j", v.j}, {"alpha", v.alpha},
+                        {"z", size(v.z)}, {"x_bar", size(v.x_bar)}, {"u_bar", size(v.u_bar)},
+                        {"support_ratio", v.support_ratio}});
+  }
+  j["set_sizes"] = variants;
+  j["tightened"] = {{"x_bar", box(d.x_bar, d.em.N_x)}, {"u_bar", box(d.u_bar, d.em.N_u)}};
+  j["robustness_margin"] = {{"scale", d.margin}, {"method", d.margin_method}};
+  j["terminal_cost"] = s.terminal_cost;
+  j["qp"] = {{"N", d.qp.N}, {"M", d.qp.M}, {"variables", d.qp.variables()},
+             {"constraints", d.qp.variables() + d.qp.state_constraints()}};
+  return j.dump(2);
+}
+
+}  // namespace tmpc

@@ -1,0 +1,68 @@
+// The synthesis pipeline on the case study: non-empty tightened sets with a clear
+// margin, the report's keys, and clear errors for impossible designs.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "design_fixture.hpp"
+
+namespace tmpc {
+namespace {
+
+TEST(Design, CaseStudyTightenedSetsAreNonEmptyWithAClearMargin) {
+  const ControllerDesign& d = test::quick_design();
+  EXPECT_FALSE(d.x_bar.empty());
+  EXPECT_FALSE(d.u_bar.empty());
+  EXPECT_GT(d.margin, 2.0);  // W may grow at least twofold before a set empties
+  // Tightened sets lie inside the constraint sets and shrink by the tube's hull.
+  EXPECT_TRUE(((d.x_bar.hi - d.X.hi).array() <= 0).all());
+  EXPECT_TRUE(((d.u_bar.lo - d.U.lo).array() >= 0).all());
+  const Eigen::VectorXd r = d.tube.Z.radius();
+  EXPECT_LT((d.X.hi - d.x_bar.hi - r - d.tube.Z.c).cwiseAbs().maxCoeff(), 1e-12);
+  // Input bounds in error coordinates hold along the whole reference.
+  EXPECT_LT(d.U.lo(0) / d.em.N_u(0), -11.0);
+  EXPECT_GT(d.U.hi(0) / d.em.N_u(0), 18.0);
+  EXPECT_EQ(d.qp.variables(), d.cfg.synthesis.control_horizon * 4);
+}
+
+TEST(Design, ReportHoldsTheRequiredFigures) {
+  const ControllerDesign& d = test::quick_design();
+  const nlohmann::json j = nlohmann::json::parse(design_report_json(d));
+  for (const char* key : {"K", "spectral_radius", "rpi", "set_sizes", "tightened", "robustness_margin", "uncertainty", "gains"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["K"].size(), 4u);
+  EXPECT_EQ(j["spectral_radius"]["vertices"].size(), 8u);
+  EXPECT_GT(j["rpi"]["j"].get<int>(), 0);
+  EXPECT_EQ(j["set_sizes"].size(), 3u);
+  EXPECT_EQ(j["tightened"]["x_bar"]["hi_physical"].size(), 24u);
+}
+
+TEST(Design, EmptyTightenedSetIsAnErrorNamingTheDimension) {
+  Config c = test::quick_config();
+  c.synthesis.w_state_fraction.setConstant(0.01);  // far beyond the margin
+  try {
+    design_controller(c, "");
+    FAIL() << "a design with an empty tightened set was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("empty in dimension"), std::string::npos) << msg;
+  }
+}
+
+TEST(Design, SampledUncertaintyIsReportedAsSuch) {
+  Config c = test::quick_config();
+  c.synthesis.w_source = "sampled";
+  c.synthesis.w_samples = 40;
+  c.synthesis.w_sample_box = 0.01;
+  c.synthesis.w_sample_fraction = 0.10;
+  const ControllerDesign d = design_controller(c, "");
+  EXPECT_NE(d.w_description.find("sampled"), std::string::npos);
+  // The sampled box contains the configured floor and exceeds it somewhere.
+  EXPECT_TRUE(((d.W.radius() - c.synthesis.w_state_fraction).array() >= -1e-15).all());
+  EXPECT_GT(d.W.radius().maxCoeff(), 10.0 * c.synthesis.w_state_fraction.maxCoeff());
+  EXPECT_GT(d.margin, 1.0);
+}
+
+}  // namespace
+}  // namespace tmpc
