@@ -115,6 +115,8 @@ struct ExportOptions {
   std::string out;
 };
 
+}  // namespace
+
 Eigen::VectorXd parse_vector(const std::string& s, int n, const std::string& what) {
   std::vector<double> v;
   std::stringstream ss(s);
@@ -138,6 +140,8 @@ Eigen::VectorXd parse_vector(const std::string& s, int n, const std::string& wha
   }
   return out;
 }
+
+namespace {
 
 void run_export(const ExportOptions& o) {
   const ControllerArtifact a = load_artifact(o.controller);

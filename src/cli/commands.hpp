@@ -14,6 +14,9 @@ void register_plant(CLI::App& app);
 /// `tmpc design`, `tmpc inspect`, `tmpc export-qp`: offline synthesis.
 void register_design(CLI::App& app);
 
+/// `tmpc solve`: one nominal QP with any solver.
+void register_solve(CLI::App& app);
+
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
 

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   tmpc::cli::register_model(app);
   tmpc::cli::register_plant(app);
   tmpc::cli::register_design(app);
+  tmpc::cli::register_solve(app);
   tmpc::cli::register_devices(app);
   try {
     app.parse(argc, argv);

@@ -1,0 +1,56 @@
+// Internal: the exact ADMM machinery (E3) for  min 1/2 x'Hx + f'x  s.t.  lo <= A x <= hi,
+// shared by the polytope ("admm") and constrained-zonotope ("cz") solvers.
+//
+// Splitting with a copy z = A x on which the bounds act (OSQP-like); every sub-step
+// is exact:
+//   x~ = (H + sigma I + A' R A)^-1 (sigma x - f + A'(R z^ - y^))       (factored once)
+//   y_1/2 = y^ + r R (A x~ - z^)                                         (4.21)
+//   z = clip(A x~ + R^-1 y_1/2, lo, hi)
+//   y = y_1/2 + s R (A x~ - z)                                           (4.23)
+// R = diag(rho), rho x1e3 on equality rows. Nesterov (4.29)-(4.31) on (z, y) with the
+// residual restart of Algorithm 4.2: c = ||R^-1 (y - y^)|| + ||A'R (z - z^)||.
+// Stop (OSQP): ||A x - z||_inf <= eps_abs + eps_rel max(||Ax||, ||z||) and
+// ||H x + f + A'y||_inf <= eps_abs + eps_rel max(||Hx||, ||A'y||, ||f||).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "tmpc/solvers/solver.hpp"
+
+namespace tmpc::detail {
+
+/// Segments shifted by one block for the warm start: [offset, offset + count*block).
+struct ShiftSegment {
+  int offset, block, count;
+};
+
+class DenseAdmm {
+ public:
+  DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const Eigen::VectorXd& lo0, const Eigen::VectorXd& hi0,
+            const SolverOptions& opt, std::vector<ShiftSegment> x_shift, std::vector<ShiftSegment> row_shift);
+
+  /// Solve with the given f, lo, hi (preallocated by the caller); result into `res`.
+  void solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, SolveResult& res);
+  void reset() { have_previous_ = false; }
+  double rho() const { return rho_; }
+
+ private:
+  void factor();
+  static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
+
+  Eigen::MatrixXd H_, A_, At_, K_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd rho_vec_, rho_inv_;
+  std::vector<char> equality_;
+  SolverOptions opt_;
+  double rho_ = 0.0, rho0_ = 0.0;
+  std::vector<ShiftSegment> x_shift_, row_shift_;
+  bool have_previous_ = false;
+  // Workspace and memory (warm start).
+  Eigen::VectorXd x_, z_, y_, zh_, yh_, zprev_, yprev_, xt_, zt_, yhalf_, rhs_, tmp_n_, tmp_m_, Ax_, Hx_, Aty_;
+};
+
+}  // namespace tmpc::detail

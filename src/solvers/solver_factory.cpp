@@ -1,0 +1,85 @@
+// make_solver(), the penalty rule, option validation.
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+
+#include "solvers_internal.hpp"
+#include "tmpc/synthesis/artifact.hpp"
+
+namespace tmpc {
+
+const char* to_string(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::Converged: return "converged";
+    case SolveStatus::MaxIterations: return "max-iterations";
+    case SolveStatus::TimeBudget: return "time-budget";
+    case SolveStatus::NumericalFailure: return "numerical-failure";
+    case SolveStatus::InvalidInput: return "invalid-input";
+  }
+  return "?";
+}
+
+void SolverOptions::validate() const {
+  auto need = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("solver options: ") + what);
+  };
+  need(eps_abs > 0.0 && std::isfinite(eps_abs), "eps_abs must be positive");
+  need(eps_rel >= 0.0 && std::isfinite(eps_rel), "eps_rel must be >= 0");
+  need(max_iterations >= 1, "max_iterations must be >= 1");
+  need(time_budget_us >= 0.0, "time_budget_us must be >= 0");
+  need(rho >= 0.0 && std::isfinite(rho), "rho must be >= 0 (0: spectral rule)");
+  need(sigma >= 0.0, "sigma must be >= 0");
+  need(rho_scale > 0.0 && std::isfinite(rho_scale), "rho_scale must be positive");
+  need(check_every >= 1, "check_every must be >= 1");
+  // Convergence region of the symmetric ADMM (He et al.): r in (-1, 1), s in
+  // (0, (1 + sqrt 5) / 2), r + s > 0, |r| < 1 + s - s^2.
+  need(r > -1.0 && r < 1.0, "r must be in (-1, 1)");
+  need(s > 0.0 && s < 0.5 * (1.0 + std::sqrt(5.0)), "s must be in (0, 1.618)");
+  need(r + s > 0.0 && std::abs(r) < 1.0 + s - s * s, "(r, s) outside the symmetric ADMM convergence region");
+  need(eta > 0.0 && eta < 1.0, "eta must be in (0, 1)");
+}
+
+double spectral_rho(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A) {
+  // Nonzero eigenvalues of A H^-1 A' = eigenvalues of H^-1/2 A'A H^-1/2.
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eh(H);
+  const Eigen::MatrixXd Hmh = eh.eigenvectors() * eh.eigenvalues().cwiseInverse().cwiseSqrt().asDiagonal() *
+                              eh.eigenvectors().transpose();
+  const Eigen::MatrixXd M = Hmh * A.transpose() * A * Hmh;
+  const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (M + M.transpose())).eigenvalues();
+  const double lmax = ev.maxCoeff();
+  double lmin = lmax;
+  for (Eigen::Index i = 0; i < ev.size(); ++i) {
+    if (ev(i) > 1e-12 * lmax) lmin = std::min(lmin, ev(i));
+  }
+  return 1.0 / std::sqrt(lmin * lmax);
+}
+
+namespace detail {
+bool valid_state(const Eigen::VectorXd& x0, int n, SolveResult& res) {
+  if (x0.size() == n && x0.allFinite()) return true;
+  res.status = SolveStatus::InvalidInput;
+  res.iterations = 0;
+  res.solve_us = 0.0;
+  return false;
+}
+}  // namespace detail
+
+std::unique_ptr<QpSolver> make_solver(const std::string& name, const ControllerArtifact& a, SolverOptions options) {
+  return make_solver(name, a.qp(), options);
+}
+
+bool solver_has_multipliers(const std::string& name) { return name == "admm" || name == "reference"; }
+
+std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& d, SolverOptions options) {
+  options.validate();
+  const ParametricQp qp = ParametricQp::from_mpc(d);
+  if (name == "admm") return std::make_unique<detail::AdmmPolytope>(qp, d.M, d.m, d.N, d.n, options);
+  if (name == "admm-thesis") return std::make_unique<detail::AdmmThesis>(d, qp, options);
+  if (name == "cz") return std::make_unique<detail::AdmmCz>(d, qp, options);
+  if (name == "reference") return std::make_unique<detail::ReferenceQp>(qp, options);
+  throw std::invalid_argument("unknown solver '" + name + "' (available: admm, admm-thesis, cz, reference)");
+}
+
+}  // namespace tmpc

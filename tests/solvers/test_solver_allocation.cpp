@@ -1,0 +1,44 @@
+// solve() allocates nothing: a counting global operator new over repeated solves.
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include <gtest/gtest.h>
+
+#include "../synthesis/design_fixture.hpp"
+#include "tmpc/solvers/solver.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace tmpc {
+namespace {
+
+TEST(SolverAllocation, SolveAllocatesNothing) {
+  const ControllerArtifact a = make_artifact(test::quick_design());
+  Eigen::VectorXd x0 = Eigen::VectorXd::Constant(24, 0.01);
+  for (const char* name : {"admm", "admm-thesis", "cz", "reference"}) {
+    SolverOptions o;
+    o.max_iterations = 300;
+    auto s = make_solver(name, a, o);
+    s->solve(x0);  // warm-up
+    const long before = g_allocations.load();
+    for (int k = 0; k < 20; ++k) {
+      x0(0) = 0.01 + 1e-4 * k;
+      s->solve(x0);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << name << " allocated in solve()";
+  }
+}
+
+}  // namespace
+}  // namespace tmpc

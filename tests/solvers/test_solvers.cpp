@@ -1,0 +1,204 @@
+// Solvers against the definition of optimality (KKT residuals computed here) and
+// against each other: 500 case-study QPs and random small MPC QPs.
+#include <algorithm>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "../synthesis/design_fixture.hpp"
+#include "tmpc/solvers/kkt.hpp"
+#include "tmpc/solvers/solver.hpp"
+
+namespace tmpc {
+namespace {
+
+const ControllerArtifact& artifact() {
+  static const ControllerArtifact a = make_artifact(test::quick_design());
+  return a;
+}
+
+/// Nominal states inside the tightened state set: 3 % of its half-width in every one
+/// of the 24 states at once (much larger simultaneous errors make the nominal QP
+/// infeasible: the thesis' problem has no terminal set guaranteeing feasibility).
+std::vector<Eigen::VectorXd> case_study_states(int count, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> xs;
+  for (int k = 0; k < count; ++k) {
+    Eigen::VectorXd x(24);
+    for (int i = 0; i < 24; ++i) x(i) = 0.03 * u(rng) * artifact().x_bar.hi(i);
+    xs.push_back(x);
+  }
+  return xs;
+}
+
+double rel_stationarity(const CondensedQp& qp, const Eigen::VectorXd& z, const Eigen::VectorXd& y) {
+  const double scale = std::max({(qp.H * z).cwiseAbs().maxCoeff(), qp.f.cwiseAbs().maxCoeff(),
+                                 (qp.A.transpose() * y).cwiseAbs().maxCoeff(), 1.0});
+  return kkt_residuals(qp, z, y).stationarity / scale;
+}
+
+TEST(Solvers, FiveHundredCaseStudyQps) {
+  SolverOptions o;
+  o.warm_start = false;
+  auto ref = make_solver("reference", artifact(), o);
+  auto admm = make_solver("admm", artifact(), o);
+  auto cz = make_solver("cz", artifact(), o);
+  auto thesis = make_solver("admm-thesis", artifact(), o);
+  double worst_ref = 0, worst_admm_u = 0, worst_cz_u = 0, worst_admm_stat = 0, worst_admm_prim = 0;
+  double worst_gap = 0, max_gap_thesis = 0, min_gap_thesis = 1e300, worst_thesis_u = 0;
+  int n = 0;
+  const MpcQpData data = artifact().qp();
+  for (const Eigen::VectorXd& x0 : case_study_states(500, 3)) {
+    // Full cost V = objective + x0' Q' W_x Q x0 >= 0: the scale for relative gaps.
+    const double V_scale = std::max(1e-9, condensed_qp(data, x0).constant);
+    const SolveResult r = ref->solve(x0);
+    ASSERT_EQ(r.status, SolveStatus::Converged) << to_string(r.status) << " at instance " << n;
+    const CondensedQp qp = ref->problem().instance(x0);
+    const KktResiduals kr = kkt_residuals(qp, r.z, r.y);
+    if (kr.max() > worst_ref) {
+      worst_ref = kr.max();
+      if (worst_ref > 1e-9) std::printf("reference KKT at %d: stat %.2e prim %.2e comp %.2e\n", n, kr.stationarity, kr.primal, kr.complementarity);
+    }
+    const SolveResult a = admm->solve(x0);
+    ASSERT_EQ(a.status, SolveStatus::Converged);
+    worst_admm_u = std::max(worst_admm_u, (a.u0() - r.u0()).cwiseAbs().maxCoeff());
+    worst_admm_stat = std::max(worst_admm_stat, rel_stationarity(qp, a.z, a.y));
+    worst_admm_prim = std::max(worst_admm_prim, kkt_residuals(qp, a.z, a.y).primal);
+    worst_gap = std::max(worst_gap, std::abs(a.objective - r.objective) / (r.objective + V_scale));
+    // Every 10th instance through the slower CZ and thesis solvers.
+    if (n % 10 == 0) {
+      const SolveResult c = cz->solve(x0);
+      ASSERT_EQ(c.status, SolveStatus::Converged);
+      worst_cz_u = std::max(worst_cz_u, (c.u0() - r.u0()).cwiseAbs().maxCoeff());
+      EXPECT_LT(kkt_residuals(qp, c.z, Eigen::VectorXd::Zero(qp.A.rows())).primal, 1e-2);
+      const SolveResult t = thesis->solve(x0);
+      const double gap = (t.objective - r.objective) / (r.objective + V_scale);
+      max_gap_thesis = std::max(max_gap_thesis, gap);
+      min_gap_thesis = std::min(min_gap_thesis, gap);
+      worst_thesis_u = std::max(worst_thesis_u, (t.u0() - r.u0()).cwiseAbs().maxCoeff());
+    }
+    ++n;
+  }
+  std::printf("reference KKT %.2e; admm |du0| %.2e, rel. stationarity %.2e, primal %.2e, gap %.2e; cz |du0| %.2e; "
+              "thesis gap [%.2e, %.2e], |du0| %.2e\n",
+              worst_ref, worst_admm_u, worst_admm_stat, worst_admm_prim, worst_gap, worst_cz_u, min_gap_thesis,
+              max_gap_thesis, worst_thesis_u);
+  EXPECT_LT(worst_ref, 1e-8);
+  // Exact ADMM and CZ agree with the optimum to the tolerance (eps = 1e-3, normalized units).
+  EXPECT_LT(worst_admm_u, 5e-3);
+  EXPECT_LT(worst_admm_stat, 1e-2);
+  EXPECT_LT(worst_admm_prim, 5e-3);
+  EXPECT_LT(worst_gap, 2e-2);  // of the full cost V, at eps = 1e-3
+  EXPECT_LT(worst_cz_u, 1e-2);
+  // The thesis variant (E3, documented): it stops on ||Gamma|| alone and its u-step is
+  // the clipped unconstrained minimizer of a dense H1, so its objective is not the
+  // optimum: gaps from about 1e-5 to 1e-2 of the cost, u(0) off by up to about 1e-2.
+  EXPECT_GT(max_gap_thesis, 1e-6);
+  EXPECT_LT(max_gap_thesis, 5e-2);
+  EXPECT_GT(min_gap_thesis, -5e-3);  // never better than the optimum beyond tolerance
+  EXPECT_LT(worst_thesis_u, 5e-2);
+}
+
+MpcQpData random_mpc(std::mt19937_64& rng, int n, int m, int N, int M) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd A(n, n), B(n, m);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) A(i, j) = 0.3 * g(rng);
+    for (int j = 0; j < m; ++j) B(i, j) = g(rng);
+  }
+  A += 0.9 * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd R = 0.1 * Eigen::MatrixXd::Identity(m, m);
+  return build_mpc_qp(A, B, Q, R, 5.0 * Q, Box::symmetric(Eigen::VectorXd::Ones(n)),
+                      Box::symmetric(0.5 * Eigen::VectorXd::Ones(m)), N, M);
+}
+
+TEST(Solvers, RandomSmallMpcQps) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int checked = 0, cz_converged = 0;
+  for (int p = 0; p < 20; ++p) {
+    const MpcQpData d = random_mpc(rng, 3, 2, 8, 4);
+    SolverOptions o;
+    o.warm_start = false;
+    o.eps_abs = o.eps_rel = 1e-5;
+    auto ref = make_solver("reference", d, o);
+    auto admm = make_solver("admm", d, o);
+    auto cz = make_solver("cz", d, o);
+    for (int k = 0; k < 10; ++k) {
+      Eigen::VectorXd x0(3);
+      for (int i = 0; i < 3; ++i) x0(i) = 0.5 * u(rng);
+      const SolveResult r = ref->solve(x0);
+      if (r.status != SolveStatus::Converged) continue;  // infeasible instance
+      const CondensedQp qp = ref->problem().instance(x0);
+      EXPECT_LT(kkt_residuals(qp, r.z, r.y).max(), 1e-8);
+      // eps = 1e-5 on the residuals: the cost is optimal to about that (these random
+      // problems are flat in some directions, so the minimizer itself is not compared).
+      const SolveResult a = admm->solve(x0);
+      EXPECT_EQ(a.status, SolveStatus::Converged);
+      EXPECT_LT(std::abs(a.objective - r.objective) / std::max(1.0, std::abs(r.objective)), 1e-4);
+      EXPECT_LT(kkt_residuals(qp, a.z, a.y).primal, 1e-3);
+      const SolveResult c = cz->solve(x0);
+      if (c.status == SolveStatus::Converged) {
+        ++cz_converged;
+        EXPECT_LT(std::abs(c.objective - r.objective) / std::max(1.0, std::abs(r.objective)), 1e-3);
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_GE(cz_converged, checked * 9 / 10) << "CZ converged on " << cz_converged << " of " << checked;
+}
+
+// The issue asks for "never worse than cold"; ADMM gives no such per-step guarantee and
+// it does not hold here on a few steps (by one or two termination-check intervals). What
+// holds, and is asserted: fewer iterations in total, and not worse on at least 80 % of
+// the steps.
+TEST(Solvers, WarmStartBeatsColdOnAClosedLoopSequence) {
+  const ControllerArtifact& a = artifact();
+  SolverOptions warm_o, cold_o;
+  cold_o.warm_start = false;
+  auto warm = make_solver("admm", a, warm_o);
+  auto cold = make_solver("admm", a, cold_o);
+  Eigen::VectorXd x = case_study_states(1, 8)[0];
+  int warm_total = 0, cold_total = 0, worse = 0, worst_excess = 0;
+  for (int k = 0; k < 100; ++k) {
+    const SolveResult w = warm->solve(x);
+    const SolveResult c = cold->solve(x);
+    ASSERT_EQ(w.status, SolveStatus::Converged);
+    if (w.iterations > c.iterations) {
+      ++worse;
+      worst_excess = std::max(worst_excess, w.iterations - c.iterations);
+    }
+    warm_total += w.iterations;
+    cold_total += c.iterations;
+    x = a.A * x + a.B * w.u0();  // nominal closed loop
+  }
+  std::printf("100 closed-loop steps: warm %d iterations, cold %d; warm worse on %d steps (by at most %d)\n",
+              warm_total, cold_total, worse, worst_excess);
+  EXPECT_LT(warm_total, cold_total);
+  EXPECT_LE(worse, 20);
+}
+
+TEST(Solvers, StatusesForBadInputAndTimeBudget) {
+  SolverOptions o;
+  o.warm_start = false;
+  o.time_budget_us = 1e-3;  // expires at the first check
+  o.check_every = 1;
+  for (const char* name : {"admm", "admm-thesis", "cz", "reference"}) {
+    auto s = make_solver(name, artifact(), o);
+    Eigen::VectorXd bad = Eigen::VectorXd::Zero(24);
+    bad(3) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(s->solve(bad).status, SolveStatus::InvalidInput) << name;
+    EXPECT_EQ(s->solve(Eigen::VectorXd::Zero(5)).status, SolveStatus::InvalidInput) << name;
+    EXPECT_EQ(s->solve(case_study_states(1, 9)[0]).status, SolveStatus::TimeBudget) << name;
+  }
+  EXPECT_THROW(make_solver("gurobi", artifact()), std::invalid_argument);
+  SolverOptions bad;
+  bad.r = 1.5;
+  EXPECT_THROW(make_solver("admm", artifact(), bad), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tmpc
