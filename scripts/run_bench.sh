@@ -5,9 +5,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh >/dev/null
 mkdir -p bench/results
-out="bench/results/$(hostname -s)-$(date +%Y%m%d-%H%M%S).json"
+stamp="$(hostname -s)-$(date +%Y%m%d-%H%M%S)"
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -n1)
-./build/bench/tmpc_bench --benchmark_out="$out" --benchmark_out_format=json \
-  --benchmark_context=cpu_model="$cpu" --benchmark_context=kernel="$(uname -r)" \
-  --benchmark_context=cores="$(nproc)" "$@"
-echo "results: $out"
+for b in tmpc_bench tmpc_bench_solvers; do
+  out="bench/results/${b}-${stamp}.json"
+  ./build/bench/$b --benchmark_out="$out" --benchmark_out_format=json \
+    --benchmark_context=cpu_model="$cpu" --benchmark_context=kernel="$(uname -r)" \
+    --benchmark_context=cores="$(nproc)" "$@"
+  echo "results: $out"
+done

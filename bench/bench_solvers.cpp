@@ -1,0 +1,153 @@
+// QP solve latency on the case study: every solver and variant, horizons N in
+// {10, 20, 40} (M = 4), cold (independent random states) and warm (a closed-loop
+// sequence). Counters: median, p99 and max solve time (us), mean iterations, and the
+// thesis variant's optimality gap against the reference (relative to the full cost).
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "tmpc/model/config.hpp"
+#include "tmpc/solvers/solver.hpp"
+#include "tmpc/synthesis/artifact.hpp"
+#include "tmpc/synthesis/design.hpp"
+
+namespace {
+
+using tmpc::ControllerArtifact;
+
+const ControllerArtifact& artifact() {
+  static const ControllerArtifact a = [] {
+    tmpc::Config c = tmpc::load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor.yaml");
+    c.synthesis.compare_gains = false;
+    c.synthesis.verify_directions = 50;
+    return tmpc::make_artifact(tmpc::design_controller(c, ""));
+  }();
+  return a;
+}
+
+tmpc::MpcQpData data_for(int N) {
+  const ControllerArtifact& a = artifact();
+  return tmpc::build_mpc_qp(a.A, a.B, a.Sigma_rho, a.Sigma_lambda, a.L, a.x_bar, a.u_bar, N, std::min(4, N));
+}
+
+std::vector<Eigen::VectorXd> cold_states(int count) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> xs;
+  for (int k = 0; k < count; ++k) {
+    Eigen::VectorXd x(24);
+    for (int i = 0; i < 24; ++i) x(i) = 0.03 * u(rng) * artifact().x_bar.hi(i);
+    xs.push_back(x);
+  }
+  return xs;
+}
+
+/// A closed-loop-like sequence: the nominal closed loop under the reference solver's
+/// input plus a small random kick per step (the tube feedback's effect).
+std::vector<Eigen::VectorXd> warm_states(const tmpc::MpcQpData& d, int count) {
+  tmpc::SolverOptions o;
+  o.warm_start = false;
+  auto ref = tmpc::make_solver("reference", d, o);
+  std::mt19937_64 rng(43);
+  std::normal_distribution<double> g(0.0, 1e-4);
+  Eigen::VectorXd x = cold_states(1)[0];
+  std::vector<Eigen::VectorXd> xs;
+  for (int k = 0; k < count; ++k) {
+    xs.push_back(x);
+    const Eigen::Vector4d u = ref->solve(x).u0();
+    x = d.A * x + d.B * u;
+    for (int i = 0; i < 24; ++i) x(i) += g(rng);
+  }
+  return xs;
+}
+
+void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc::SolverOptions o) {
+  const tmpc::MpcQpData d = data_for(N);
+  o.warm_start = warm;
+  auto s = tmpc::make_solver(solver, d, o);
+  const std::vector<Eigen::VectorXd> xs = warm ? warm_states(d, 200) : cold_states(200);
+  std::unique_ptr<tmpc::QpSolver> ref;
+  const bool gap = solver == "admm-thesis";
+  if (gap) {
+    tmpc::SolverOptions ro;
+    ro.warm_start = false;
+    ref = tmpc::make_solver("reference", d, ro);
+  }
+  std::vector<double> times;
+  double iters = 0.0, worst_gap = 0.0;
+  int converged = 0;
+  std::size_t k = 0;
+  for (auto _ : st) {
+    const Eigen::VectorXd& x = xs[k % xs.size()];
+    const tmpc::SolveResult& r = s->solve(x);
+    times.push_back(r.solve_us);
+    iters += r.iterations;
+    converged += r.status == tmpc::SolveStatus::Converged;
+    if (gap && k < xs.size()) {
+      st.PauseTiming();
+      const double obj = r.objective;
+      const double ref_obj = ref->solve(x).objective;
+      const double V = tmpc::condensed_qp(d, x).constant + ref_obj;
+      worst_gap = std::max(worst_gap, (obj - ref_obj) / std::max(V, 1e-12));
+      st.ResumeTiming();
+    }
+    ++k;
+  }
+  std::sort(times.begin(), times.end());
+  auto pct = [&](double p) { return times[std::min(times.size() - 1, static_cast<std::size_t>(p * times.size()))]; };
+  st.counters["median_us"] = pct(0.5);
+  st.counters["p99_us"] = pct(0.99);
+  st.counters["max_us"] = times.back();
+  st.counters["iterations"] = iters / static_cast<double>(times.size());
+  st.counters["converged_pct"] = 100.0 * converged / static_cast<double>(times.size());
+  if (gap) st.counters["thesis_gap"] = worst_gap;
+}
+
+void register_all() {
+  for (int N : {10, 20, 40}) {
+    for (const char* solver : {"admm", "admm-thesis", "cz", "reference"}) {
+      for (bool warm : {false, true}) {
+        if (std::string(solver) == "reference" && warm) continue;  // an interior point has no warm start
+        const std::string name = std::string("Solve/") + solver + "/N" + std::to_string(N) + (warm ? "/warm" : "/cold");
+        auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+          run(st, solver, N, warm, tmpc::SolverOptions{});
+        });
+        b->Unit(benchmark::kMicrosecond)->Iterations(std::string(solver) == "cz" || std::string(solver) == "admm-thesis" ? 100 : 400);
+      }
+    }
+  }
+  // The penalty rule and the acceleration, exact ADMM at the default horizon.
+  struct Variant {
+    const char* name;
+    double rho_scale;
+    bool adaptive, nesterov;
+  };
+  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false}, Variant{"spectral_x0.1", 0.1, false, false},
+                          Variant{"spectral_x0.1_adaptive", 0.1, true, false},
+                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true}}) {
+    for (bool warm : {false, true}) {
+      const std::string name = std::string("Rho/admm/N20/") + v.name + (warm ? "/warm" : "/cold");
+      auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+        tmpc::SolverOptions o;
+        o.rho_scale = v.rho_scale;
+        o.adaptive_rho = v.adaptive;
+        o.nesterov = v.nesterov;
+        run(st, "admm", 20, warm, o);
+      });
+      b->Unit(benchmark::kMicrosecond)->Iterations(400);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
