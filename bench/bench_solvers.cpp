@@ -123,11 +123,12 @@ void register_all() {
   struct Variant {
     const char* name;
     double rho_scale;
-    bool adaptive, nesterov;
+    bool adaptive, nesterov, ruiz;
   };
-  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false}, Variant{"spectral_x0.1", 0.1, false, false},
-                          Variant{"spectral_x0.1_adaptive", 0.1, true, false},
-                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true}}) {
+  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false, false}, Variant{"spectral_x0.1", 0.1, false, false, false},
+                          Variant{"spectral_x0.1_adaptive", 0.1, true, false, false},
+                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true, false},
+                          Variant{"spectral_x0.1_adaptive_ruiz", 0.1, true, false, true}}) {
     for (bool warm : {false, true}) {
       const std::string name = std::string("Rho/admm/N20/") + v.name + (warm ? "/warm" : "/cold");
       auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
@@ -135,6 +136,7 @@ void register_all() {
         o.rho_scale = v.rho_scale;
         o.adaptive_rho = v.adaptive;
         o.nesterov = v.nesterov;
+        o.equilibrate = v.ruiz;
         run(st, "admm", 20, warm, o);
       });
       b->Unit(benchmark::kMicrosecond)->Iterations(400);

@@ -10,7 +10,10 @@
 // R = diag(rho), rho x1e3 on equality rows. Nesterov (4.29)-(4.31) on (z, y) with the
 // residual restart of Algorithm 4.2: c = ||R^-1 (y - y^)|| + ||A'R (z - z^)||.
 // Stop (OSQP): ||A x - z||_inf <= eps_abs + eps_rel max(||Ax||, ||z||) and
-// ||H x + f + A'y||_inf <= eps_abs + eps_rel max(||Hx||, ||A'y||, ||f||).
+// ||H x + f + A'y||_inf <= eps_abs + eps_rel max(||Hx||, ||A'y||, ||f||), in the
+// original units. The problem is equilibrated once (Ruiz, 15 passes on [H A'; A 0]
+// plus a cost scaling) and solved in scaled coordinates x~ = D^-1 x, z~ = E z,
+// y~ = c E^-1 y.
 #pragma once
 
 #include <vector>
@@ -41,7 +44,9 @@ class DenseAdmm {
   void factor();
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
 
-  Eigen::MatrixXd H_, A_, At_, K_;
+  Eigen::MatrixXd H_, A_, At_, K_;   // scaled: H~ = c D H D, A~ = E A D (Ruiz)
+  Eigen::VectorXd D_, E_;             // variable and constraint scalings
+  double c_ = 1.0;                    // cost scaling
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd rho_vec_, rho_inv_;
   std::vector<char> equality_;
@@ -51,6 +56,7 @@ class DenseAdmm {
   bool have_previous_ = false;
   // Workspace and memory (warm start).
   Eigen::VectorXd x_, z_, y_, zh_, yh_, zprev_, yprev_, xt_, zt_, yhalf_, rhs_, tmp_n_, tmp_m_, Ax_, Hx_, Aty_;
+  Eigen::VectorXd fs_, los_, his_;    // scaled instance
 };
 
 }  // namespace tmpc::detail

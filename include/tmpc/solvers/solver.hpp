@@ -42,6 +42,8 @@ struct SolverOptions {
   int check_every = 5;           ///< termination test every k iterations (it costs an A'y product)
   bool adaptive_rho = true;      ///< OSQP-style rebalancing of rho every 25 iterations (refactors, no allocation)
   double sigma = 1e-6;           ///< proximal term on z (exact variant)
+  bool equilibrate = false;      ///< Ruiz scaling at set-up (measured ~6x more cold iterations on
+                                 ///< the already-normalized case study: off by default)
   double r = 0.5, s = 1.0;       ///< symmetric dual step sizes (4.21), (4.23)
   bool nesterov = false;         ///< extrapolation (4.29)-(4.31) with the restart of Algorithm 4.2
                                  ///< (the thesis variant always uses it; measured slower for
