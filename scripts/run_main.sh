@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, and run the default configuration.
-# Now: the tiltrotor model pipeline (equilibrium, feedforward, linear error model).
+# The main job: install what is missing, build, design the default controller and fly
+# the helix mission in simulation (80 s, the thesis' 1 N steps at 20/40/60 s, the
+# default solver, the Euler-Lagrange plant). Outputs under out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
 scripts/build.sh
-./build/tmpc model --config config/tiltrotor.yaml
+mkdir -p out
+./build/tmpc design --config config/tiltrotor.yaml --out out/tiltrotor.tmpc --report out/design_report.json
+./build/tmpc simulate --controller out/tiltrotor.tmpc --out out/helix

@@ -17,6 +17,9 @@ void register_design(CLI::App& app);
 /// `tmpc solve`: one nominal QP with any solver.
 void register_solve(CLI::App& app);
 
+/// `tmpc simulate`: closed-loop helix mission on a virtual clock.
+void register_simulate(CLI::App& app);
+
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
 

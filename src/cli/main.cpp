@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   tmpc::cli::register_plant(app);
   tmpc::cli::register_design(app);
   tmpc::cli::register_solve(app);
+  tmpc::cli::register_simulate(app);
   tmpc::cli::register_devices(app);
   try {
     app.parse(argc, argv);

@@ -1,0 +1,43 @@
+// Closed-loop missions on a virtual clock (thesis 6.2): the helix with the
+// disturbance schedule, any plant, the tube controller with any solver; and the
+// thesis' metrics: RMSE per coordinate, total control variation per input, solve
+// time statistics, fallbacks, clipping, tube exits (in total and per disturbance
+// step) and state-constraint violations.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "tmpc/synthesis/artifact.hpp"
+
+namespace tmpc {
+
+struct MissionOptions {
+  std::string solver = "admm";
+  std::string plant = "el";
+  double duration = 80.0;
+  bool disturbance = true;
+  int run = -1;                   ///< Monte Carlo run (masses and inertias perturbed), -1: nominal
+  bool reinitialize_nominal = false;
+  std::string telemetry_csv;      ///< one row per period when not empty
+};
+
+struct MissionMetrics {
+  std::array<double, 10> rmse{};            ///< per coordinate, q - q_r
+  std::array<double, 3> max_abs_error{};    ///< x, y, z
+  std::array<double, 4> tcv{};              ///< sum |u_k - u_(k-1)|
+  double solve_min = 0, solve_mean = 0, solve_p50 = 0, solve_p99 = 0, solve_max = 0;  ///< us
+  double iterations_mean = 0;
+  int iterations_max = 0;
+  long periods = 0, deadline_misses = 0, fallback_periods = 0, clipped_periods = 0;
+  long tube_exits = 0, state_constraint_violations = 0;
+  std::vector<long> tube_exits_per_step;    ///< before the first step, then after each step
+  std::string solver, plant;
+  bool diverged = false;                    ///< the state became non-finite or left 10x the box
+};
+
+MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o);
+std::string metrics_json(const MissionMetrics& m);
+
+}  // namespace tmpc

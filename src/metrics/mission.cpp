@@ -1,0 +1,141 @@
+// Closed-loop mission on a virtual clock.
+#include "tmpc/metrics/mission.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tmpc/model/reference.hpp"
+#include "tmpc/runtime/tube_controller.hpp"
+#include "tmpc/sim/plant.hpp"
+
+namespace tmpc {
+
+MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o) {
+  const Config cfg = load_config_from_string(a.config_text, "artifact");
+  const TiltrotorModel model(cfg.vehicle);
+  const HelixTrajectory traj(cfg.reference, model);
+  auto plant = make_plant(o.plant, cfg, o.disturbance, o.run);
+  SolverOptions so;
+  so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
+  so.eta = cfg.solver.admm_eta;
+  TubeControllerOptions to;
+  to.reinitialize_nominal = o.reinitialize_nominal;
+  TubeController ctrl(a, make_solver(o.solver, a, so), to);
+
+  MissionMetrics m;
+  m.solver = o.solver;
+  m.plant = o.plant;
+  const double T = a.sample_time;
+  const long K = std::lround(o.duration / T);
+  const ReferencePoint r0 = traj.at(0.0);
+  State20 x0;
+  x0 << r0.q, r0.qd;  // start on the reference (E8)
+  plant->reset(x0, 0.0);
+  Eigen::VectorXd xt = Eigen::VectorXd::Zero(24);
+  ctrl.reset(xt);
+  Eigen::Vector4d integral = Eigen::Vector4d::Zero();
+  Eigen::Vector4d u_prev = Eigen::Vector4d::Zero();
+  std::vector<double> solve;
+  solve.reserve(static_cast<std::size_t>(K));
+  std::array<double, 10> sq{};
+  std::vector<double> step_times;
+  for (const DisturbanceStep& s : cfg.disturbances) step_times.push_back(s.time);
+  m.tube_exits_per_step.assign(o.disturbance ? step_times.size() + 1 : 1, 0);
+  std::ofstream csv;
+  if (!o.telemetry_csv.empty()) {
+    csv.open(o.telemetry_csv);
+    csv << "t";
+    for (const char* n : kCoordNames) csv << ",e_" << n;
+    csv << ",u_f_r,u_f_l,u_tau_r,u_tau_l,ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,status,iterations,solve_us,fallback,"
+           "clipped,in_tube,in_state_box\n";
+  }
+  const double box_limit = 10.0;
+  for (long k = 0; k < K; ++k) {
+    const double t = static_cast<double>(k) * T;
+    const ReferencePoint r = traj.at(t);
+    const State20& x = plant->state();
+    xt.head<10>() = x.head<10>() - r.q;
+    xt(kPsi) = std::remainder(xt(kPsi), 2.0 * M_PI);
+    xt.segment<10>(10) = x.tail<10>() - r.qd;
+    xt.tail<4>() = integral;
+    if (!xt.allFinite() || (a.N_x.cwiseProduct(xt).cwiseAbs().array() > box_limit).any()) {
+      m.diverged = true;
+      break;
+    }
+    const Eigen::Vector4d ur = feedforward(model, r);
+    const ControlStep& s = ctrl.step(xt, ur);
+    plant->advance(s.u, T);
+    // Integrals of the x, y, z, psi errors (5.7), rectangle rule.
+    integral += T * Eigen::Vector4d(xt(kX), xt(kY), xt(kZ), xt(kPsi));
+    ++m.periods;
+    for (int i = 0; i < 10; ++i) sq[static_cast<std::size_t>(i)] += xt(i) * xt(i);
+    for (int i = 0; i < 3; ++i) m.max_abs_error[static_cast<std::size_t>(i)] = std::max(m.max_abs_error[static_cast<std::size_t>(i)], std::abs(xt(i)));
+    if (k > 0) {
+      for (int i = 0; i < 4; ++i) m.tcv[static_cast<std::size_t>(i)] += std::abs(s.u(i) - u_prev(i));
+    }
+    u_prev = s.u;
+    solve.push_back(s.solve_us);
+    m.iterations_mean += s.iterations;
+    m.iterations_max = std::max(m.iterations_max, s.iterations);
+    m.fallback_periods += s.fallback;
+    m.clipped_periods += s.clipped;
+    m.state_constraint_violations += !s.in_state_box;
+    if (!s.in_tube) {
+      ++m.tube_exits;
+      std::size_t w = 0;
+      if (o.disturbance) {
+        while (w < step_times.size() && t >= step_times[w]) ++w;
+      }
+      ++m.tube_exits_per_step[w];
+    }
+    if (csv) {
+      csv << t;
+      for (int i = 0; i < 10; ++i) csv << "," << xt(i);
+      for (int i = 0; i < 4; ++i) csv << "," << s.u(i);
+      for (int i = 0; i < 4; ++i) csv << "," << s.u_bar(i);
+      csv << "," << to_string(s.status) << "," << s.iterations << "," << s.solve_us << "," << s.fallback << ","
+          << s.clipped << "," << s.in_tube << "," << s.in_state_box << "\n";
+    }
+  }
+  const double n = std::max<double>(1.0, static_cast<double>(m.periods));
+  for (int i = 0; i < 10; ++i) m.rmse[static_cast<std::size_t>(i)] = std::sqrt(sq[static_cast<std::size_t>(i)] / n);
+  m.iterations_mean /= n;
+  if (!solve.empty()) {
+    std::sort(solve.begin(), solve.end());
+    auto pct = [&](double p) { return solve[std::min(solve.size() - 1, static_cast<std::size_t>(p * solve.size()))]; };
+    m.solve_min = solve.front();
+    m.solve_max = solve.back();
+    m.solve_p50 = pct(0.5);
+    m.solve_p99 = pct(0.99);
+    double sum = 0;
+    for (double v : solve) sum += v;
+    m.solve_mean = sum / static_cast<double>(solve.size());
+  }
+  return m;
+}
+
+std::string metrics_json(const MissionMetrics& m) {
+  nlohmann::json j;
+  nlohmann::json rmse;
+  for (int i = 0; i < 10; ++i) rmse[kCoordNames[static_cast<std::size_t>(i)]] = m.rmse[static_cast<std::size_t>(i)];
+  j["rmse"] = rmse;
+  j["tcv"] = {{"f_r", m.tcv[0]}, {"f_l", m.tcv[1]}, {"tau_r", m.tcv[2]}, {"tau_l", m.tcv[3]}};
+  j["solve_us"] = {{"min", m.solve_min}, {"mean", m.solve_mean}, {"p50", m.solve_p50}, {"p99", m.solve_p99}, {"max", m.solve_max}};
+  j["iterations"] = {{"mean", m.iterations_mean}, {"max", m.iterations_max}};
+  j["periods"] = m.periods;
+  j["deadline_misses"] = m.deadline_misses;
+  j["fallback_periods"] = m.fallback_periods;
+  j["clipped_periods"] = m.clipped_periods;
+  j["tube_exits"] = {{"total", m.tube_exits}, {"per_disturbance_step", m.tube_exits_per_step}};
+  j["state_constraint_violations"] = m.state_constraint_violations;
+  j["max_abs_error"] = {{"x", m.max_abs_error[0]}, {"y", m.max_abs_error[1]}, {"z", m.max_abs_error[2]}};
+  j["solver"] = m.solver;
+  j["plant"] = m.plant;
+  j["diverged"] = m.diverged;
+  return j.dump(2);
+}
+
+}  // namespace tmpc

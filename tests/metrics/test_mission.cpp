@@ -1,0 +1,57 @@
+// Closed loop on a virtual clock (helix, Euler-Lagrange plant).
+#include <gtest/gtest.h>
+
+#include "../synthesis/design_fixture.hpp"
+#include "tmpc/metrics/mission.hpp"
+
+namespace tmpc {
+namespace {
+
+const ControllerArtifact& artifact() {
+  static const ControllerArtifact a = make_artifact(test::quick_design());
+  return a;
+}
+
+TEST(Mission, WithoutDisturbanceTheTubeHoldsAndNoConstraintIsViolated) {
+  MissionOptions o;
+  o.duration = 20.0;
+  o.disturbance = false;
+  const MissionMetrics m = run_mission(artifact(), o);
+  EXPECT_FALSE(m.diverged);
+  EXPECT_EQ(m.periods, 1667);
+  EXPECT_EQ(m.tube_exits, 0);
+  EXPECT_EQ(m.state_constraint_violations, 0);
+  EXPECT_EQ(m.fallback_periods, 0);
+  EXPECT_LT(m.rmse[0], 1e-3);
+  EXPECT_LT(m.rmse[1], 1e-3);
+  EXPECT_LT(m.rmse[2], 1e-3);
+}
+
+TEST(Mission, ThesisDisturbancesAreRejectedWithinTheStateBox) {
+  MissionOptions o;
+  o.duration = 80.0;
+  const MissionMetrics m = run_mission(artifact(), o);
+  std::printf("80 s with the 1 N steps: RMSE x %.4f y %.4f z %.4f m, tube exits %ld\n", m.rmse[0], m.rmse[1],
+              m.rmse[2], m.tube_exits);
+  EXPECT_FALSE(m.diverged);
+  EXPECT_EQ(m.state_constraint_violations, 0);
+  for (int i = 0; i < 3; ++i) EXPECT_LT(m.rmse[static_cast<std::size_t>(i)], 0.1);
+  // No exits before the first step. After each step the constant force moves the
+  // load's trim attitude, which the nominal model (Mayne) does not follow: the error
+  // to the nominal state stays outside the tiny tube (DESIGN.md section 4; the
+  // offset-free extension is needed to keep it inside).
+  EXPECT_EQ(m.tube_exits_per_step.front(), 0);
+  // The reference solver gives the same flight to 1 %.
+  o.solver = "reference";
+  o.duration = 30.0;
+  const MissionMetrics r = run_mission(artifact(), o);
+  o.solver = "admm";
+  const MissionMetrics a = run_mission(artifact(), o);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(a.rmse[static_cast<std::size_t>(i)], r.rmse[static_cast<std::size_t>(i)],
+                0.01 * r.rmse[static_cast<std::size_t>(i)] + 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace tmpc
