@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "tmpc/model/checksum.hpp"
 #include "tmpc/qp/mpc_qp.hpp"
 #include "tmpc/sets/box.hpp"
 #include "tmpc/sets/zonotope.hpp"
@@ -65,7 +66,5 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
 
 void save_artifact(const ControllerArtifact& a, const std::string& path);
 ControllerArtifact load_artifact(const std::string& path);
-
-std::uint32_t crc32(const std::uint8_t* data, std::size_t n);
 
 }  // namespace tmpc
