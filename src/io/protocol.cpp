@@ -157,55 +157,43 @@ bool Decoder::finish() {
   }
   const std::uint32_t seq = get_u32(packet_.data() + 2);
   const std::uint8_t* p = packet_.data() + kHeader;
+  // Decode the values, then the checks common to both types in one order:
+  // finite, within physical bounds, newer than the last accepted frame.
+  bool finite = true, inside = true;
   if (expected_ == FrameType::State) {
-    StateFrame f;
-    f.seq = seq;
-    f.time = get_f64(p);
-    bool finite = std::isfinite(f.time);
+    state_next_.seq = seq;
+    state_next_.time = get_f64(p);
+    finite = std::isfinite(state_next_.time);
+    inside = std::abs(state_next_.time) <= bounds_.time;
     for (std::size_t i = 0; i < 20; ++i) {
-      f.x[i] = get_f64(p + 8 * (i + 1));
-      finite = finite && std::isfinite(f.x[i]);
-    }
-    if (!finite) {
-      ++stats_.non_finite;
-      return false;
-    }
-    bool inside = std::abs(f.time) <= bounds_.time;
-    for (std::size_t i = 0; i < 20; ++i) {
+      const double v = get_f64(p + 8 * (i + 1));
       const double lim = i < 3 ? bounds_.position : (i < 10 ? bounds_.angle : bounds_.velocity);
-      inside = inside && std::abs(f.x[i]) <= lim;
+      state_next_.x[i] = v;
+      finite = finite && std::isfinite(v);
+      inside = inside && std::abs(v) <= lim;
     }
-    if (!inside) {
-      ++stats_.out_of_bounds;
-      return false;
-    }
-    if (have_seq_ && static_cast<std::int32_t>(seq - last_seq_) <= 0) {
-      ++stats_.stale_sequence;
-      return false;
-    }
-    state_ = f;
   } else {
-    ControlFrame f;
-    f.seq = seq;
-    bool finite = true;
+    control_next_.seq = seq;
     for (std::size_t i = 0; i < 4; ++i) {
-      f.u[i] = get_f64(p + 8 * i);
-      finite = finite && std::isfinite(f.u[i]);
+      const double v = get_f64(p + 8 * i);
+      control_next_.u[i] = v;
+      finite = finite && std::isfinite(v);
+      inside = inside && std::abs(v) <= 1e3;
     }
-    f.flags = p[32];
-    if (!finite) {
-      ++stats_.non_finite;
-      return false;
-    }
-    if (std::abs(f.u[0]) > 1e3 || std::abs(f.u[1]) > 1e3 || std::abs(f.u[2]) > 1e3 || std::abs(f.u[3]) > 1e3) {
-      ++stats_.out_of_bounds;
-      return false;
-    }
-    if (have_seq_ && static_cast<std::int32_t>(seq - last_seq_) <= 0) {
-      ++stats_.stale_sequence;
-      return false;
-    }
-    control_ = f;
+    control_next_.flags = p[32];
+  }
+  long* reject = !finite ? &stats_.non_finite
+                 : !inside ? &stats_.out_of_bounds
+                 : (have_seq_ && static_cast<std::int32_t>(seq - last_seq_) <= 0) ? &stats_.stale_sequence
+                                                                                   : nullptr;
+  if (reject != nullptr) {
+    ++*reject;
+    return false;
+  }
+  if (expected_ == FrameType::State) {
+    state_ = state_next_;
+  } else {
+    control_ = control_next_;
   }
   if (have_seq_) stats_.sequence_gaps += static_cast<long>(seq - last_seq_ - 1);
   have_seq_ = true;

@@ -79,8 +79,8 @@ class Decoder {
   bool overflow_ = false;
   bool have_seq_ = false;
   std::uint32_t last_seq_ = 0;
-  StateFrame state_;
-  ControlFrame control_;
+  StateFrame state_, state_next_;
+  ControlFrame control_, control_next_;
   DecoderStats stats_;
 };
 
