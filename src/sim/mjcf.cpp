@@ -59,12 +59,17 @@ std::string make_mjcf(const VehicleParams& p, double timestep) {
     }
   }
   const double mu_g1 = p.friction[kGamma1], mu_g2 = p.friction[kGamma2];
-  const double mu_ar = p.friction[kAlphaR], mu_al = p.friction[kAlphaL];
-  const double b = p.dihedral;
-  const std::string quat_r = num(std::cos(0.5 * b)) + " " + num(-std::sin(0.5 * b)) + " 0 0";
-  const std::string quat_l = num(std::cos(0.5 * b)) + " " + num(std::sin(0.5 * b)) + " 0 0";
   const Eigen::Vector3d main_pos = Eigen::Vector3d(0, 0, p.rod_length) + p.d_a1b;
   const Eigen::Matrix3d Ir = p.rotor_inertia_about_com();
+  // The two rotor groups differ in side, roll sign (Rx(-+beta)), damping and spin.
+  struct Rotor {
+    const char* side;
+    const char* joint;
+    const Eigen::Vector3d& pivot;
+    double roll_sign, damping, spin;
+  };
+  const Rotor rotors[2] = {{"right", "alpha_r", p.d_b_right, -1.0, p.friction[kAlphaR], p.spin_right},
+                           {"left", "alpha_l", p.d_b_left, 1.0, p.friction[kAlphaL], p.spin_left}};
 
   std::ostringstream x;
   x << "<mujoco model=\"tiltrotor_load\">\n"
@@ -82,30 +87,30 @@ std::string make_mjcf(const VehicleParams& p, double timestep) {
     << "        <joint name=\"gamma_2\" type=\"hinge\" pos=\"" << vec(-p.d_a1b) << "\" axis=\"0 -1 0\" damping=\""
     << num(mu_g2) << "\"/>\n"
     << "        <inertial pos=\"" << vec(p.d_b1) << "\" mass=\"" << num(p.body_mass) << "\" fullinertia=\""
-    << full_inertia(p.body_inertia) << "\"/>\n"
-    << "        <body name=\"rotor_right\" pos=\"" << vec(p.d_b_right) << "\" quat=\"" << quat_r << "\">\n"
-    << "          <joint name=\"alpha_r\" type=\"hinge\" axis=\"0 1 0\" damping=\"" << num(mu_ar) << "\"/>\n"
-    << "          <inertial pos=\"" << vec(p.rotor_com) << "\" mass=\"" << num(p.rotor_mass) << "\" fullinertia=\""
-    << full_inertia(Ir) << "\"/>\n"
-    << "          <site name=\"thrust_right\" pos=\"0 0 0\"/>\n"
-    << "        </body>\n"
-    << "        <body name=\"rotor_left\" pos=\"" << vec(p.d_b_left) << "\" quat=\"" << quat_l << "\">\n"
-    << "          <joint name=\"alpha_l\" type=\"hinge\" axis=\"0 1 0\" damping=\"" << num(mu_al) << "\"/>\n"
-    << "          <inertial pos=\"" << vec(p.rotor_com) << "\" mass=\"" << num(p.rotor_mass) << "\" fullinertia=\""
-    << full_inertia(Ir) << "\"/>\n"
-    << "          <site name=\"thrust_left\" pos=\"0 0 0\"/>\n"
-    << "        </body>\n"
-    << "      </body>\n"
+    << full_inertia(p.body_inertia) << "\"/>\n";
+  for (const Rotor& r : rotors) {
+    const double h = 0.5 * r.roll_sign * p.dihedral;
+    x << "        <body name=\"rotor_" << r.side << "\" pos=\"" << vec(r.pivot) << "\" quat=\"" << num(std::cos(h))
+      << " " << num(std::sin(h)) << " 0 0\">\n"
+      << "          <joint name=\"" << r.joint << "\" type=\"hinge\" axis=\"0 1 0\" damping=\"" << num(r.damping)
+      << "\"/>\n"
+      << "          <inertial pos=\"" << vec(p.rotor_com) << "\" mass=\"" << num(p.rotor_mass) << "\" fullinertia=\""
+      << full_inertia(Ir) << "\"/>\n"
+      << "          <site name=\"thrust_" << r.side << "\" pos=\"0 0 0\"/>\n"
+      << "        </body>\n";
+  }
+  x << "      </body>\n"
     << "    </body>\n"
     << "  </worldbody>\n"
-    << "  <actuator>\n"
-    << "    <general name=\"f_r\" site=\"thrust_right\" gear=\"0 0 1 0 0 "
-    << num(p.spin_right * p.drag_torque_ratio) << "\"/>\n"
-    << "    <general name=\"f_l\" site=\"thrust_left\" gear=\"0 0 1 0 0 " << num(p.spin_left * p.drag_torque_ratio)
-    << "\"/>\n"
-    << "    <motor name=\"tau_r\" joint=\"alpha_r\" gear=\"1\"/>\n"
-    << "    <motor name=\"tau_l\" joint=\"alpha_l\" gear=\"1\"/>\n"
-    << "  </actuator>\n"
+    << "  <actuator>\n";
+  for (const Rotor& r : rotors) {
+    x << "    <general name=\"f_" << r.side[0] << "\" site=\"thrust_" << r.side << "\" gear=\"0 0 1 0 0 "
+      << num(r.spin * p.drag_torque_ratio) << "\"/>\n";
+  }
+  for (const Rotor& r : rotors) {
+    x << "    <motor name=\"tau_" << r.side[0] << "\" joint=\"" << r.joint << "\" gear=\"1\"/>\n";
+  }
+  x << "  </actuator>\n"
     << "</mujoco>\n";
   return x.str();
 }

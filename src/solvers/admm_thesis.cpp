@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include "nesterov_restart.hpp"
 #include "solvers_internal.hpp"
 
 namespace tmpc::detail {
@@ -43,8 +44,6 @@ AdmmThesis::AdmmThesis(const MpcQpData& d, const ParametricQp& qp, const SolverO
   for (Eigen::VectorXd* v : {&x_, &lam_, &xe_, &lame_, &xprev_, &lamprev_, &Qx0_, &Pu_, &g_, &t_n_}) v->setZero(N_ * n_);
   for (Eigen::VectorXd* v : {&u_, &t_u_}) v->setZero(M_ * m_);
   f_.resize(qp.nz());
-  lo_.resize(qp.nc());
-  hi_.resize(qp.nc());
   res_.z.resize(qp.nz());
   res_.y.setZero(qp.nc());
 }
@@ -69,7 +68,7 @@ const SolveResult& AdmmThesis::solve(const Eigen::VectorXd& x0) {
   lame_ = lam_;
   xprev_ = x_;
   lamprev_ = lam_;
-  double a = 1.0, c_prev = 1e300;
+  NesterovRestart nesterov;
   res_.restarts = 0;
   res_.status = SolveStatus::MaxIterations;
   int k = 1;
@@ -97,16 +96,11 @@ const SolveResult& AdmmThesis::solve(const Eigen::VectorXd& x0) {
     t_u_.noalias() = Pt_ * g_;
     const double c = (lam_ - lame_).norm() + rho_ * t_u_.norm();
     res_.dual_residual = rho_ * t_u_.cwiseAbs().maxCoeff();
-    if (opt_.nesterov && c < opt_.eta * c_prev) {
-      const double a_next = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * a * a));
-      const double beta = (a - 1.0) / a_next;
+    double beta = 0.0;
+    if (opt_.nesterov && nesterov.accept(c, opt_.eta, beta)) {
       xe_ = x_ + beta * (x_ - xprev_);
       lame_ = lam_ + beta * (lam_ - lamprev_);
-      a = a_next;
-      c_prev = c;
     } else if (opt_.nesterov) {
-      a = 1.0;
-      c_prev /= opt_.eta;
       xe_ = xprev_;
       lame_ = lamprev_;
       ++res_.restarts;
@@ -132,7 +126,8 @@ const SolveResult& AdmmThesis::solve(const Eigen::VectorXd& x0) {
   }
   res_.iterations = std::min(k, opt_.max_iterations);
   res_.z = u_;
-  qp_.instance_into(x0, f_, lo_, hi_);
+  f_ = qp_.f0;
+  f_.noalias() += qp_.F * x0;  // the objective needs f only, not the bounds
   t_u_.noalias() = qp_.H * u_;
   res_.objective = 0.5 * u_.dot(t_u_) + f_.dot(u_);
   have_previous_ = res_.status != SolveStatus::NumericalFailure;

@@ -1,6 +1,8 @@
 // The exact ADMM machinery (see dense_admm.hpp).
 #include "dense_admm.hpp"
 
+#include "nesterov_restart.hpp"
+
 #include <chrono>
 #include <cmath>
 
@@ -109,7 +111,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   yh_ = y_;
   zprev_ = z_;
   yprev_ = y_;
-  double a = 1.0, c_prev = 1e300;
+  NesterovRestart nesterov;
   res.restarts = 0;
   res.status = SolveStatus::MaxIterations;
   const double f_norm = inf_norm(f_in);
@@ -133,16 +135,11 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
       tmp_m_ = rho_vec_.cwiseProduct(z_ - zh_);
       tmp_n_.noalias() = At_ * tmp_m_;
       const double c = rho_inv_.cwiseProduct(y_ - yh_).norm() + tmp_n_.norm();
-      if (c < opt_.eta * c_prev) {
-        const double a_next = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * a * a));
-        const double beta = (a - 1.0) / a_next;
+      double beta = 0.0;
+      if (nesterov.accept(c, opt_.eta, beta)) {
         zh_ = z_ + beta * (z_ - zprev_);
         yh_ = y_ + beta * (y_ - yprev_);
-        a = a_next;
-        c_prev = c;
       } else {
-        a = 1.0;
-        c_prev = c_prev / opt_.eta;
         zh_ = zprev_;
         yh_ = yprev_;
         ++res.restarts;

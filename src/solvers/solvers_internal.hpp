@@ -58,7 +58,7 @@ class AdmmThesis final : public QpSolver {
   double rho_;
   bool have_previous_ = false;
   Eigen::VectorXd xlo_, xhi_, ulo_, uhi_;
-  Eigen::VectorXd x_, u_, lam_, xe_, lame_, xprev_, lamprev_, Qx0_, Pu_, g_, t_n_, t_u_, f_, lo_, hi_;
+  Eigen::VectorXd x_, u_, lam_, xe_, lame_, xprev_, lamprev_, Qx0_, Pu_, g_, t_n_, t_u_, f_;
   SolveResult res_;
 };
 
