@@ -1,133 +1,12 @@
 // Controller artifact: binary writer and strict reader.
 #include "tmpc/synthesis/artifact.hpp"
 
-#include <array>
-#include <cstring>
-#include <fstream>
-#include <map>
-#include <set>
-
 #include "tmpc/synthesis/design.hpp"
 
 namespace tmpc {
 
 namespace {
-
-constexpr char kMagic[8] = {'T', 'M', 'P', 'C', 'A', 'R', 'T', '\0'};
-constexpr std::size_t kHeader = 20;
-enum Kind : std::uint8_t { kMatrix = 1, kText = 2, kInt = 3 };
-
-class Writer {
- public:
-  void u8(std::uint8_t v) { b_.push_back(v); }
-  void u16(std::uint16_t v) { le(v, 2); }
-  void u32(std::uint32_t v) { le(v, 4); }
-  void u64(std::uint64_t v) { le(v, 8); }
-  void f64(double v) {
-    std::uint64_t u;
-    std::memcpy(&u, &v, 8);
-    u64(u);
-  }
-  void name(const std::string& s) {
-    u16(static_cast<std::uint16_t>(s.size()));
-    b_.insert(b_.end(), s.begin(), s.end());
-  }
-  void matrix(const std::string& n, const Eigen::MatrixXd& m) {
-    name(n);
-    u8(kMatrix);
-    u32(static_cast<std::uint32_t>(m.rows()));
-    u32(static_cast<std::uint32_t>(m.cols()));
-    for (Eigen::Index j = 0; j < m.cols(); ++j) {
-      for (Eigen::Index i = 0; i < m.rows(); ++i) f64(m(i, j));
-    }
-  }
-  void text(const std::string& n, const std::string& t) {
-    name(n);
-    u8(kText);
-    u64(t.size());
-    b_.insert(b_.end(), t.begin(), t.end());
-  }
-  void integer(const std::string& n, std::int64_t v) {
-    name(n);
-    u8(kInt);
-    u64(static_cast<std::uint64_t>(v));
-  }
-  std::vector<std::uint8_t>& bytes() { return b_; }
-
- private:
-  void le(std::uint64_t v, int n) {
-    for (int i = 0; i < n; ++i) b_.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-  }
-  std::vector<std::uint8_t> b_;
-};
-
-struct Record {
-  Kind kind;
-  Eigen::MatrixXd m;
-  std::string text;
-  std::int64_t value = 0;
-};
-
-class Reader {
- public:
-  Reader(const std::uint8_t* p, std::size_t n, const std::string& src) : p_(p), n_(n), src_(src) {}
-  [[noreturn]] void fail(const std::string& what) const {
-    throw ArtifactError(src_ + ": " + what + " (at byte " + std::to_string(pos_) + ")");
-  }
-  void need(std::size_t k) const {
-    if (n_ - pos_ < k) fail("record runs past the end of the payload");
-  }
-  std::uint64_t le(int k) {
-    need(static_cast<std::size_t>(k));
-    std::uint64_t v = 0;
-    for (int i = 0; i < k; ++i) v |= static_cast<std::uint64_t>(p_[pos_ + static_cast<std::size_t>(i)]) << (8 * i);
-    pos_ += static_cast<std::size_t>(k);
-    return v;
-  }
-  double f64() {
-    const std::uint64_t u = le(8);
-    double v;
-    std::memcpy(&v, &u, 8);
-    return v;
-  }
-  bool done() const { return pos_ == n_; }
-  std::pair<std::string, Record> record() {
-    const std::size_t len = le(2);
-    need(len);
-    std::string name(reinterpret_cast<const char*>(p_ + pos_), len);
-    pos_ += len;
-    Record r;
-    const std::uint64_t kind = le(1);
-    if (kind == kMatrix) {
-      r.kind = kMatrix;
-      const std::uint64_t rows = le(4), cols = le(4);
-      if (rows > (1u << 24) || cols > (1u << 24) || rows * cols * 8 > n_ - pos_) fail("matrix '" + name + "' too large");
-      r.m.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
-      for (Eigen::Index j = 0; j < r.m.cols(); ++j) {
-        for (Eigen::Index i = 0; i < r.m.rows(); ++i) r.m(i, j) = f64();
-      }
-    } else if (kind == kText) {
-      r.kind = kText;
-      const std::uint64_t l = le(8);
-      need(l);
-      r.text.assign(reinterpret_cast<const char*>(p_ + pos_), l);
-      pos_ += l;
-    } else if (kind == kInt) {
-      r.kind = kInt;
-      r.value = static_cast<std::int64_t>(le(8));
-    } else {
-      fail("record '" + name + "' has unknown kind " + std::to_string(kind));
-    }
-    return {name, r};
-  }
-
- private:
-  const std::uint8_t* p_;
-  std::size_t n_;
-  std::size_t pos_ = 0;
-  const std::string& src_;
-};
-
+constexpr FileMagic kMagic = {'T', 'M', 'P', 'C', 'A', 'R', 'T', '\0'};
 }  // namespace
 
 MpcQpData ControllerArtifact::qp() const {
@@ -170,7 +49,7 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
 }
 
 std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
-  Writer p;
+  RecordWriter p;
   p.text("config", a.config_text);
   p.text("tube_gain", a.tube_gain);
   p.text("rpi_variant", a.rpi_variant);
@@ -205,72 +84,18 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
   p.matrix("angles_eq", a.angles_eq);
   p.matrix("margin", Eigen::MatrixXd::Constant(1, 1, a.margin));
 
-  Writer f;
-  for (char c : kMagic) f.u8(static_cast<std::uint8_t>(c));
-  f.u32(kArtifactVersion);
-  f.u64(p.bytes().size());
-  auto& out = f.bytes();
-  out.insert(out.end(), p.bytes().begin(), p.bytes().end());
-  f.u32(crc32(out.data(), out.size()));
-  return out;
+  return p.seal(kMagic, kArtifactVersion);
 }
 
 ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, const std::string& source) {
-  if (bytes.size() < kHeader + 4) {
-    throw ArtifactError(source + ": truncated: " + std::to_string(bytes.size()) + " bytes, a controller artifact has at least " +
-                        std::to_string(kHeader + 4));
-  }
-  if (std::memcmp(bytes.data(), kMagic, 8) != 0) throw ArtifactError(source + ": not a tmpc controller artifact (bad magic)");
-  std::uint32_t version = 0;
-  for (int i = 0; i < 4; ++i) version |= static_cast<std::uint32_t>(bytes[8 + static_cast<std::size_t>(i)]) << (8 * i);
-  if (version != kArtifactVersion) {
-    throw ArtifactError(source + ": format version " + std::to_string(version) + ", this build reads version " +
-                        std::to_string(kArtifactVersion) + " (redesign with this tmpc)");
-  }
-  std::uint64_t payload = 0;
-  for (int i = 0; i < 8; ++i) payload |= static_cast<std::uint64_t>(bytes[12 + static_cast<std::size_t>(i)]) << (8 * i);
-  if (payload > bytes.size() || kHeader + payload + 4 != bytes.size()) {
-    throw ArtifactError(source + ": size mismatch: the header announces " + std::to_string(payload) + " payload bytes, the file has " +
-                        std::to_string(bytes.size()) + " bytes in all (truncated or extended)");
-  }
-  std::uint32_t stored = 0;
-  for (int i = 0; i < 4; ++i) stored |= static_cast<std::uint32_t>(bytes[kHeader + payload + static_cast<std::size_t>(i)]) << (8 * i);
-  if (crc32(bytes.data(), kHeader + payload) != stored) throw ArtifactError(source + ": checksum mismatch (the file is corrupt)");
-
-  std::map<std::string, Record> recs;
-  Reader r(bytes.data() + kHeader, payload, source);
-  while (!r.done()) {
-    auto [name, rec] = r.record();
-    if (!recs.emplace(name, std::move(rec)).second) r.fail("duplicate record '" + name + "'");
-  }
-  std::set<std::string> used;
-  auto get = [&](const std::string& name, Kind kind) -> const Record& {
-    auto it = recs.find(name);
-    if (it == recs.end()) throw ArtifactError(source + ": missing record '" + name + "'");
-    if (it->second.kind != kind) throw ArtifactError(source + ": record '" + name + "' has the wrong kind");
-    used.insert(name);
-    return it->second;
-  };
-  auto mat = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) {
-    const Record& rec = get(name, kMatrix);
-    if (rec.m.rows() != rows || (cols >= 0 && rec.m.cols() != cols)) {
-      throw ArtifactError(source + ": record '" + name + "' is " + std::to_string(rec.m.rows()) + "x" +
-                          std::to_string(rec.m.cols()) + ", expected " + std::to_string(rows) + "x" +
-                          (cols >= 0 ? std::to_string(cols) : std::string("any")));
-    }
-    if (!rec.m.allFinite()) throw ArtifactError(source + ": record '" + name + "' holds non-finite values");
-    return rec.m;
-  };
-  auto integer = [&](const std::string& name, std::int64_t lo, std::int64_t hi) {
-    const std::int64_t v = get(name, kInt).value;
-    if (v < lo || v > hi) throw ArtifactError(source + ": record '" + name + "' = " + std::to_string(v) + " out of range");
-    return static_cast<int>(v);
-  };
+  RecordReader r(bytes, kMagic, kArtifactVersion, source, "controller artifact");
+  auto mat = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) { return r.matrix(name, rows, cols); };
+  auto integer = [&](const std::string& name, std::int64_t lo, std::int64_t hi) { return r.integer(name, lo, hi); };
   ControllerArtifact a;
-  a.config_text = get("config", kText).text;
-  a.tube_gain = get("tube_gain", kText).text;
-  a.rpi_variant = get("rpi_variant", kText).text;
-  a.terminal_cost = get("terminal_cost", kText).text;
+  a.config_text = r.text("config");
+  a.tube_gain = r.text("tube_gain");
+  a.rpi_variant = r.text("rpi_variant");
+  a.terminal_cost = r.text("terminal_cost");
   a.n = integer("n", 1, 10000);
   a.m = integer("m", 1, 10000);
   a.N = integer("N", 1, 100000);
@@ -299,27 +124,14 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
   a.u_eq = mat("u_eq", 4, 1);
   a.angles_eq = mat("angles_eq", 4, 1);
   a.margin = mat("margin", 1, 1)(0, 0);
-  for (const auto& kv : recs) {
-    if (used.count(kv.first) == 0) throw ArtifactError(source + ": unknown record '" + kv.first + "'");
-  }
+  r.finish();
   if (!(a.sample_time > 0.0)) throw ArtifactError(source + ": sample_time must be positive");
   if (a.x_bar.empty() || a.u_bar.empty()) throw ArtifactError(source + ": a tightened set is empty");
   return a;
 }
 
-void save_artifact(const ControllerArtifact& a, const std::string& path) {
-  const std::vector<std::uint8_t> bytes = serialize_artifact(a);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw ArtifactError(path + ": cannot open for writing");
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw ArtifactError(path + ": write failed");
-}
+void save_artifact(const ControllerArtifact& a, const std::string& path) { write_binary_file(path, serialize_artifact(a)); }
 
-ControllerArtifact load_artifact(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ArtifactError(path + ": cannot open the file");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return deserialize_artifact(bytes, path);
-}
+ControllerArtifact load_artifact(const std::string& path) { return deserialize_artifact(read_binary_file(path), path); }
 
 }  // namespace tmpc

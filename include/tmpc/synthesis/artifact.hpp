@@ -25,15 +25,14 @@
 #include "tmpc/qp/mpc_qp.hpp"
 #include "tmpc/sets/box.hpp"
 #include "tmpc/sets/zonotope.hpp"
+#include "tmpc/synthesis/record_file.hpp"
 
 namespace tmpc {
 
 constexpr std::uint32_t kArtifactVersion = 1;
 
-class ArtifactError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+/// Every artifact read or write error (the record container's error type).
+using ArtifactError = RecordFileError;
 
 struct ControllerDesign;
 
