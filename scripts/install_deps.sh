@@ -5,7 +5,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libspdlog-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libmujoco-dev libsdp-dev
+  libmujoco-dev libsdp-dev coinor-libclp-dev
   python3 python3-numpy python3-cvxopt
 )
 missing=()

@@ -47,7 +47,7 @@ const SolveResult& ReferenceQp::solve(const Eigen::VectorXd& x0) {
   for (int i = 0; i < 2 * nc_; ++i) {
     const bool on = active_row_[static_cast<std::size_t>(i)];
     lam_(i) = on ? 1.0 : 0.0;
-    s_(i) = 1.0;
+    s_(i) = on ? std::max(1.0, h_(i)) : 1.0;  // the slack of z = 0 where it is positive
   }
   auto G_times = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {  // out = G v (masked)
     out.head(nc_).noalias() = A * v;

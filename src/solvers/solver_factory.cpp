@@ -17,6 +17,7 @@ const char* to_string(SolveStatus s) {
     case SolveStatus::TimeBudget: return "time-budget";
     case SolveStatus::NumericalFailure: return "numerical-failure";
     case SolveStatus::InvalidInput: return "invalid-input";
+    case SolveStatus::Infeasible: return "infeasible";
   }
   return "?";
 }
@@ -71,6 +72,11 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const ControllerA
 }
 
 bool solver_has_multipliers(const std::string& name) { return name == "admm" || name == "reference"; }
+
+std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options) {
+  options.validate();
+  return std::make_unique<detail::ReferenceQp>(qp, options);
+}
 
 std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& d, SolverOptions options) {
   options.validate();

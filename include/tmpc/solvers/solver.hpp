@@ -25,6 +25,7 @@ enum class SolveStatus : int {
   TimeBudget,
   NumericalFailure,
   InvalidInput,  ///< x0 with the wrong size or non-finite entries
+  Infeasible,    ///< x0 outside the feasible set (explicit MPC: outside its partition)
 };
 const char* to_string(SolveStatus s);
 
@@ -84,6 +85,9 @@ class QpSolver {
 std::unique_ptr<QpSolver> make_solver(const std::string& name, const ControllerArtifact& a, SolverOptions options = {});
 /// Same from MPC problem data (tests, other problems than the artifact's).
 std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& d, SolverOptions options = {});
+/// The reference solver on any parametric QP (infinite bounds allowed): the oracle of
+/// the explicit-MPC construction and of tests on non-MPC problems.
+std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options = {});
 /// True when the solver returns multipliers of lo <= A z <= hi (admm, reference).
 bool solver_has_multipliers(const std::string& name);
 
