@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/design.hpp"
@@ -30,6 +31,7 @@ struct DesignOptions {
   std::string config = "config/tiltrotor.yaml";
   std::string out;
   std::string report;
+  bool explicit_law = false;
 };
 
 void run_design(const DesignOptions& o) {
@@ -40,6 +42,11 @@ void run_design(const DesignOptions& o) {
   });
   const ControllerArtifact a = make_artifact(d);
   save_artifact(a, o.out);
+  if (o.explicit_law) {
+    const ExplicitLaw law = build_explicit_law(a, explicit_options_from(cfg.explicit_mpc));
+    save_explicit(law, explicit_path_for(o.out));
+    print_explicit_summary(law, explicit_path_for(o.out));
+  }
   if (!o.report.empty()) {
     std::ofstream r(o.report);
     if (!r) throw std::runtime_error(o.report + ": cannot write");
@@ -190,6 +197,7 @@ void register_design(CLI::App& app) {
   sub->add_option("--config", d->config, "design configuration (YAML)")->check(CLI::ExistingFile);
   sub->add_option("--out", d->out, "controller artifact to write")->required();
   sub->add_option("--report", d->report, "JSON report to write");
+  sub->add_flag("--explicit", d->explicit_law, "also build the explicit MPC law (config section `explicit`) into OUT + 'x'");
   sub->callback([d]() { run_design(*d); });
 
   auto file = std::make_shared<std::string>();

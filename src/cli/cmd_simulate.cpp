@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/metrics/mission.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -15,7 +16,7 @@ namespace tmpc::cli {
 namespace {
 
 struct SimOptions {
-  std::string controller, config, out = "out", solver = "admm", plant = "el";
+  std::string controller, config, out = "out", solver = "admm", plant = "el", explicit_law;
   double duration = 80.0;
   bool no_disturbance = false, reinit = false;
   int run = -1;
@@ -32,6 +33,7 @@ void run_simulate(const SimOptions& o) {
   m.run = o.run;
   m.reinitialize_nominal = o.reinit;
   m.telemetry_csv = o.out + "/telemetry.csv";
+  m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   const MissionMetrics r = run_mission(a, m);
   std::ofstream(o.out + "/metrics.json") << metrics_json(r) << "\n";
   std::printf("helix mission, %.0f s, plant %s, solver %s%s%s\n", o.duration, o.plant.c_str(), o.solver.c_str(),
@@ -54,8 +56,9 @@ void register_simulate(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("simulate", "Closed-loop helix mission on a virtual clock");
   sub->add_option("--controller", o->controller, "controller artifact")->required();
   sub->add_option("--config", o->config, "accepted for symmetry; the artifact carries its configuration");
-  sub->add_option("--solver", o->solver, "admm | admm-thesis | cz | reference")
-      ->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference"}));
+  sub->add_option("--solver", o->solver, "admm | admm-thesis | cz | reference | explicit")
+      ->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sub->add_option("--explicit", o->explicit_law, "explicit law for --solver explicit (default: CONTROLLER + 'x')");
   sub->add_option("--plant", o->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
   sub->add_option("--duration", o->duration, "seconds")->check(CLI::PositiveNumber);
   sub->add_flag("--no-disturbance", o->no_disturbance, "without the 1 N steps");

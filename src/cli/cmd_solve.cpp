@@ -1,4 +1,4 @@
-// tmpc solve --controller FILE.tmpc --solver admm|admm-thesis|cz|reference --x0 "..." [--json]
+// tmpc solve --controller FILE.tmpc --solver admm|admm-thesis|cz|reference|explicit --x0 "..." [--json]
 // [--cold] [--eps E]: one nominal QP, with the KKT residuals of the returned point.
 #include <cstdio>
 #include <sstream>
@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "tmpc/explicit/explicit_law.hpp"
+#include "tmpc/explicit/explicit_solver.hpp"
 #include "tmpc/solvers/kkt.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
@@ -19,7 +21,7 @@ Eigen::VectorXd parse_vector(const std::string& s, int n, const std::string& wha
 namespace {
 
 struct SolveOptionsCli {
-  std::string controller, solver = "admm", x0;
+  std::string controller, solver = "admm", x0, explicit_law;
   bool json = false;
   double eps = 1e-3;
 };
@@ -30,7 +32,8 @@ void run_solve(const SolveOptionsCli& o) {
   SolverOptions opt;
   opt.eps_abs = opt.eps_rel = o.eps;
   opt.warm_start = false;
-  auto solver = make_solver(o.solver, a, opt);
+  auto solver = make_controller_solver(o.solver, a, opt,
+                                      o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law);
   const SolveResult r = solver->solve(x0);
   const CondensedQp qp = solver->problem().instance(x0);
   const Eigen::VectorXd y = solver_has_multipliers(o.solver) ? r.y : estimate_multipliers(qp, r.z, 10.0 * o.eps);
@@ -70,8 +73,9 @@ void register_solve(CLI::App& app) {
   auto o = std::make_shared<SolveOptionsCli>();
   CLI::App* sub = app.add_subcommand("solve", "Solve the nominal QP for one state");
   sub->add_option("--controller", o->controller, "controller artifact")->required();
-  sub->add_option("--solver", o->solver, "admm | admm-thesis | cz | reference")
-      ->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference"}));
+  sub->add_option("--solver", o->solver, "admm | admm-thesis | cz | reference | explicit")
+      ->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sub->add_option("--explicit", o->explicit_law, "explicit law for --solver explicit (default: CONTROLLER + 'x')");
   sub->add_option("--x0", o->x0, "normalized nominal state, 24 comma-separated values")->required();
   sub->add_option("--eps", o->eps, "tolerance (ADMM)")->check(CLI::PositiveNumber);
   sub->add_flag("--json", o->json, "print JSON");

@@ -22,5 +22,20 @@ void register_simulate(CLI::App& app);
 
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
+void register_explicit(CLI::App& app);
+
+}  // namespace tmpc::cli
+
+namespace tmpc {
+struct ExplicitSettings;
+struct ExplicitOptions;
+struct ExplicitLaw;
+}  // namespace tmpc
+
+namespace tmpc::cli {
+// Shared by `tmpc explicit` and `tmpc design --explicit` (cmd_explicit.cpp).
+ExplicitOptions explicit_options_from(const ExplicitSettings& e);
+void print_explicit_summary(const ExplicitLaw& law, const std::string& path);
+std::string explicit_summary_json(const ExplicitLaw& law);
 
 }  // namespace tmpc::cli

@@ -18,12 +18,13 @@ int main(int argc, char** argv) {
   tmpc::cli::register_solve(app);
   tmpc::cli::register_simulate(app);
   tmpc::cli::register_devices(app);
+  tmpc::cli::register_explicit(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const tmpc::ArtifactError& e) {
-    std::fprintf(stderr, "tmpc: controller artifact error: %s\n", e.what());
+    std::fprintf(stderr, "tmpc: file error: %s\n", e.what());
     return 2;
   } catch (const tmpc::ConfigError& e) {
     std::fprintf(stderr, "tmpc: configuration error: %s\n", e.what());

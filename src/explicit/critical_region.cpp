@@ -22,12 +22,18 @@ MpQpFactors::MpQpFactors(const MpQp& p) : llt(p.H) {
   Hinvf = llt.solve(p.f);
 }
 
-std::vector<int> irredundant_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box, int& lps) {
+std::vector<int> irredundant_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box,
+                                  const std::vector<char>& box_row, int& lps) {
   const Eigen::Index n = A.cols();
   const Eigen::VectorXd c = box.center(), h = 0.5 * (box.hi - box.lo);
-  // 1. Rows that the box alone satisfies, and duplicates (keep the tightest).
+  // 1. Rows that the box alone satisfies (the box's own rows are kept for the LP test),
+  // and duplicates (keep the tightest).
   std::vector<int> cand;
   for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    if (box_row[static_cast<std::size_t>(i)]) {
+      cand.push_back(static_cast<int>(i));
+      continue;
+    }
     const double box_max = A.row(i).dot(c) + A.row(i).cwiseAbs().dot(h);
     if (box_max > b(i) + kRedundant) cand.push_back(static_cast<int>(i));
   }
@@ -43,7 +49,8 @@ std::vector<int> irredundant_rows(const Eigen::MatrixXd& A, const Eigen::VectorX
     }
     if (!dup) uniq.push_back(i);
   }
-  // 2. LP test per row: max a_i'x over the other kept rows (row i relaxed by 1).
+  // 2. LP test per row: max a_i'x over the other kept rows (row i relaxed by 1); the
+  // box enters as rows, so the LP is bounded by them.
   std::vector<char> keep(uniq.size(), 1);
   Eigen::MatrixXd Ak(static_cast<Eigen::Index>(uniq.size()), n);
   Eigen::VectorXd bk(static_cast<Eigen::Index>(uniq.size()));
@@ -51,17 +58,19 @@ std::vector<int> irredundant_rows(const Eigen::MatrixXd& A, const Eigen::VectorX
     Ak.row(static_cast<Eigen::Index>(r)) = A.row(uniq[r]);
     bk(static_cast<Eigen::Index>(r)) = b(uniq[r]);
   }
-  const Eigen::VectorXd lo = box.lo, hi = box.hi;
+  const Eigen::VectorXd hi = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity()), lo = -hi;
+  LpWorkspace lp_ws(Ak, bk, lo, hi);
   for (std::size_t r = 0; r < uniq.size(); ++r) {
     const auto ri = static_cast<Eigen::Index>(r);
-    Eigen::VectorXd bt = bk;
-    for (std::size_t q = 0; q < uniq.size(); ++q) {
-      if (!keep[q]) bt(static_cast<Eigen::Index>(q)) = std::numeric_limits<double>::max() / 4;  // dropped rows: inactive
-    }
-    bt(ri) += 1.0;
-    const LpResult lp = solve_lp(-Ak.row(ri).transpose(), Ak, bt, Eigen::MatrixXd(0, n), Eigen::VectorXd(0), lo, hi);
+    lp_ws.set_rhs(static_cast<int>(r), bk(ri) + 1.0);
+    const LpResult lp = lp_ws.minimize(-Ak.row(ri).transpose());
     ++lps;
-    if (lp.status == LpStatus::Optimal && -lp.value <= bk(ri) + kRedundant) keep[r] = 0;
+    if (lp.status == LpStatus::Optimal && -lp.value <= bk(ri) + kRedundant) {
+      keep[r] = 0;
+      lp_ws.set_rhs(static_cast<int>(r), std::numeric_limits<double>::infinity());
+    } else {
+      lp_ws.set_rhs(static_cast<int>(r), bk(ri));
+    }
   }
   std::vector<int> out;
   for (std::size_t r = 0; r < uniq.size(); ++r) {
@@ -200,7 +209,9 @@ RegionBuild build_region(const MpQp& p, const MpQpFactors& fac, const std::vecto
     out.outcome = RegionOutcome::LowerDimensional;
     return out;
   }
-  const std::vector<int> kept = irredundant_rows(Al, bl, p.domain, out.lps);
+  std::vector<char> box_row(live.size());
+  for (std::size_t q = 0; q < live.size(); ++q) box_row[q] = boundary[static_cast<std::size_t>(live[q])];
+  const std::vector<int> kept = irredundant_rows(Al, bl, p.domain, box_row, out.lps);
   r.set.H.resize(static_cast<Eigen::Index>(kept.size()), nt);
   r.set.k.resize(static_cast<Eigen::Index>(kept.size()));
   for (std::size_t q = 0; q < kept.size(); ++q) {

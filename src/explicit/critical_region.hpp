@@ -30,9 +30,11 @@ struct MpQpFactors {
 
 RegionBuild build_region(const MpQp& p, const MpQpFactors& fac, const std::vector<int>& active, double min_radius);
 
-/// Rows of (A, b) after dropping those redundant in {A x <= b} within the box; rows
-/// normalized. Returns the kept row indices. `lps` counts the LPs solved.
-std::vector<int> irredundant_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box, int& lps);
+/// Rows of (A, b) (normalized) after dropping those redundant in {A x <= b}. The rows
+/// flagged in box_row describe `box`; other rows the box alone satisfies are dropped
+/// without an LP. Returns the kept row indices. `lps` counts the LPs solved.
+std::vector<int> irredundant_rows(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box,
+                                  const std::vector<char>& box_row, int& lps);
 
 /// Chebyshev center of facet i of {A x <= b} within the box (rows normalized): radius < 0 if none.
 ChebyshevBall facet_ball(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, int i, const Box& box);

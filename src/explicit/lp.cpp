@@ -19,9 +19,11 @@ const char* to_string(LpStatus s) {
   return "?";
 }
 
-LpResult solve_lp(const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
-                  const Eigen::MatrixXd& Aeq, const Eigen::VectorXd& beq, const Eigen::VectorXd& lo,
-                  const Eigen::VectorXd& hi) {
+namespace {
+
+// Load min c'x s.t. A x <= b, Aeq x = beq, lo <= x <= hi into a CLP model (column-major).
+void load(ClpSimplex& model, const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+          const Eigen::MatrixXd& Aeq, const Eigen::VectorXd& beq, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
   const int n = static_cast<int>(c.size());
   const int mi = static_cast<int>(A.rows()), me = static_cast<int>(Aeq.rows());
   const int m = mi + me;
@@ -58,15 +60,18 @@ LpResult solve_lp(const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eige
     clo[static_cast<std::size_t>(j)] = std::isfinite(lo(j)) ? lo(j) : -inf;
     chi[static_cast<std::size_t>(j)] = std::isfinite(hi(j)) ? hi(j) : inf;
   }
-  ClpSimplex model;
   model.setLogLevel(0);
   model.loadProblem(n, m, start.data(), index.data(), value.data(), clo.data(), chi.data(), c.data(), rlo.data(),
                     rhi.data());
   model.setOptimizationDirection(1.0);
-  model.setPrimalTolerance(1e-9);
-  model.setDualTolerance(1e-9);
-  model.dual();
+  // No scaling: callers pass normalized rows, and CLP's scaled dual simplex stopped
+  // "optimal" at wrong vertices on the 24-dimensional region LPs (secondary status 3).
+  model.scaling(0);
+}
+
+LpResult result(ClpSimplex& model, const Eigen::VectorXd& c) {
   LpResult r;
+  if (model.status() == 0 && model.secondaryStatus() != 0) return r;
   switch (model.status()) {
     case 0: r.status = LpStatus::Optimal; break;
     case 1: r.status = LpStatus::Infeasible; break;
@@ -74,11 +79,41 @@ LpResult solve_lp(const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eige
     default: r.status = LpStatus::Failed; break;
   }
   if (r.status == LpStatus::Optimal) {
-    r.x = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), n);
+    r.x = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), c.size());
     r.value = c.dot(r.x);
   }
   return r;
 }
+
+}  // namespace
+
+LpResult solve_lp(const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                  const Eigen::MatrixXd& Aeq, const Eigen::VectorXd& beq, const Eigen::VectorXd& lo,
+                  const Eigen::VectorXd& hi) {
+  ClpSimplex model;
+  load(model, c, A, b, Aeq, beq, lo, hi);
+  model.dual();
+  if (model.status() == 0 && model.secondaryStatus() != 0) model.initialSolve();
+  return result(model, c);
+}
+
+LpWorkspace::LpWorkspace(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& lo,
+                         const Eigen::VectorXd& hi)
+    : model_(std::make_unique<ClpSimplex>()), n_(static_cast<int>(A.cols())) {
+  load(*model_, Eigen::VectorXd::Zero(A.cols()), A, b, Eigen::MatrixXd(0, A.cols()), Eigen::VectorXd(0), lo, hi);
+}
+LpWorkspace::~LpWorkspace() = default;
+LpWorkspace::LpWorkspace(LpWorkspace&&) noexcept = default;
+LpWorkspace& LpWorkspace::operator=(LpWorkspace&&) noexcept = default;
+
+LpResult LpWorkspace::minimize(const Eigen::VectorXd& c) {
+  for (int j = 0; j < n_; ++j) model_->setObjectiveCoefficient(j, c(j));
+  model_->primal();
+  if (model_->status() == 0 && model_->secondaryStatus() != 0) model_->initialSolve();
+  return result(*model_, c);
+}
+
+void LpWorkspace::set_rhs(int i, double v) { model_->setRowUpper(i, std::isfinite(v) ? v : COIN_DBL_MAX); }
 
 ChebyshevBall chebyshev_ball(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& lo,
                              const Eigen::VectorXd& hi, double r_max) {

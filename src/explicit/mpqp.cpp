@@ -229,16 +229,19 @@ class Explorer {
     return kept;
   }
 
+  // Find the region at th: solve the QP there, try its candidate active sets; when th
+  // sits on a degenerate set (a lower-dimensional region, a weakly active constraint)
+  // move it a little and try again.
   void explore_point(Eigen::VectorXd th) {
     if (!p_.domain.contains(th, 0.0)) return;
     if (part_.locate(th) >= 0) return;
     std::normal_distribution<double> nd(0.0, 1.0);
-    for (int attempt = 0; attempt < 5; ++attempt) {
+    for (int attempt = 0; attempt < 6; ++attempt) {
       if (attempt > 0) {
         ++part_.stats.perturbed;
         Eigen::VectorXd d(p_.ntheta());
         for (Eigen::Index j = 0; j < d.size(); ++j) d(j) = nd(rng_);
-        th += (0.3 * opt_.step / d.norm()) * d;
+        th += (0.3 * opt_.step * attempt / d.norm()) * d;
         if (!p_.domain.contains(th, 0.0) || part_.locate(th) >= 0) return;
       }
       if (!solve_at(th)) {
@@ -247,7 +250,7 @@ class Explorer {
         continue;
       }
       for (const std::vector<int>& act : candidates(th)) {
-        if (seen_.count(act)) return;  // a known region: th sits on its boundary
+        if (seen_.count(act)) continue;  // a known region that just misses th: try the next
         detail::RegionBuild b = detail::build_region(p_, fac_, act, opt_.min_radius);
         part_.stats.lps += b.lps;
         if (b.outcome == detail::RegionOutcome::LowerDimensional) ++part_.stats.lower_dimensional;

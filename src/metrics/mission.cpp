@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tmpc/explicit/explicit_solver.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
 #include "tmpc/sim/plant.hpp"
@@ -23,7 +24,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
   so.eta = cfg.solver.admm_eta;
   TubeControllerOptions to;
   to.reinitialize_nominal = o.reinitialize_nominal;
-  TubeController ctrl(a, make_solver(o.solver, a, so), to);
+  TubeController ctrl(a, make_controller_solver(o.solver, a, so, o.explicit_law), to);
 
   MissionMetrics m;
   m.solver = o.solver;

@@ -367,6 +367,17 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     s.finish();
   }
 
+  if (root.has("explicit")) {
+    Section s = root.section("explicit");
+    ExplicitSettings& e = c.explicit_mpc;
+    e.horizon = static_cast<int>(s.number_in("horizon", 1.0, 1000.0));
+    e.control_horizon = static_cast<int>(s.number_in("control_horizon", 1.0, 1000.0));
+    if (e.control_horizon > e.horizon) s.fail(s.key("control_horizon"), "must be <= horizon (M <= N)");
+    e.domain_fraction = s.number_in("domain_fraction", 1e-6, 1.0);
+    e.max_regions = static_cast<int>(s.number_in("max_regions", 1.0, 1e7));
+    e.time_limit_s = s.number_in("time_limit_s", 1e-3, 1e6);
+    s.finish();
+  }
   root.finish();
   return c;
 }

@@ -160,9 +160,10 @@ int RecordReader::integer(const std::string& name, std::int64_t lo, std::int64_t
 
 const Eigen::MatrixXd& RecordReader::matrix(const std::string& name, Eigen::Index rows, Eigen::Index cols) {
   const Record& rec = get(name, kMatrix);
-  if (rec.m.rows() != rows || (cols >= 0 && rec.m.cols() != cols)) {
-    fail("record '" + name + "' is " + std::to_string(rec.m.rows()) + "x" + std::to_string(rec.m.cols()) +
-         ", expected " + std::to_string(rows) + "x" + (cols >= 0 ? std::to_string(cols) : std::string("any")));
+  if ((rows >= 0 && rec.m.rows() != rows) || (cols >= 0 && rec.m.cols() != cols)) {
+    fail("record '" + name + "' is " + std::to_string(rec.m.rows()) + "x" + std::to_string(rec.m.cols()) + ", expected " +
+         (rows >= 0 ? std::to_string(rows) : std::string("any")) + "x" +
+         (cols >= 0 ? std::to_string(cols) : std::string("any")));
   }
   if (!rec.m.allFinite()) fail("record '" + name + "' holds non-finite values");
   return rec.m;

@@ -2,7 +2,11 @@
 // CLP (Debian coinor-libclp-dev):  min c'x  s.t.  A x <= b,  Aeq x = beq,  lo <= x <= hi.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Core>
+
+class ClpSimplex;
 
 namespace tmpc {
 
@@ -19,6 +23,23 @@ struct LpResult {
 LpResult solve_lp(const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                   const Eigen::MatrixXd& Aeq, const Eigen::VectorXd& beq, const Eigen::VectorXd& lo,
                   const Eigen::VectorXd& hi);
+
+/// Many LPs over one polyhedron {A x <= b, lo <= x <= hi} with changing objectives:
+/// the model is loaded once and each solve starts from the previous optimal basis.
+class LpWorkspace {
+ public:
+  LpWorkspace(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
+  ~LpWorkspace();
+  LpWorkspace(LpWorkspace&&) noexcept;
+  LpWorkspace& operator=(LpWorkspace&&) noexcept;
+  LpResult minimize(const Eigen::VectorXd& c);
+  /// Change b_i (+infinity drops the row).
+  void set_rhs(int i, double v);
+
+ private:
+  std::unique_ptr<ClpSimplex> model_;
+  int n_ = 0;
+};
 
 /// Largest ball {c + r u : |u| <= 1} inside {A x <= b, lo <= x <= hi} (rows of A need not
 /// be normalized), r capped at r_max. radius < 0 when the set is empty.

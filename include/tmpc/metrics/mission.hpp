@@ -21,6 +21,7 @@ struct MissionOptions {
   int run = -1;                   ///< Monte Carlo run (masses and inertias perturbed), -1: nominal
   bool reinitialize_nominal = false;
   std::string telemetry_csv;      ///< one row per period when not empty
+  std::string explicit_law;       ///< companion file for solver "explicit"
 };
 
 struct MissionMetrics {

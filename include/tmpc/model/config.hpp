@@ -129,6 +129,15 @@ struct SynthesisSettings {
   int verify_directions = 0;    // support-function directions for the invariance check
 };
 
+/// Explicit tube MPC (thesis 4.1): the mpQP's horizon and parameter box, build limits.
+struct ExplicitSettings {
+  int horizon = 2;               // N of the explicit QP
+  int control_horizon = 1;       // M <= N
+  double domain_fraction = 0.5;  // parameter box: this fraction of the tightened set x_bar
+  int max_regions = 20000;
+  double time_limit_s = 1800.0;
+};
+
 struct Config {
   std::string source;  // file the config came from (for messages)
   VehicleParams vehicle;
@@ -144,6 +153,7 @@ struct Config {
   ErrorModelSettings error_model;
   SolverSettings solver;
   SynthesisSettings synthesis;
+  ExplicitSettings explicit_mpc;  // optional section `explicit` (defaults above)
 };
 
 /// Load and validate a YAML config. Throws ConfigError naming file and key.

@@ -49,7 +49,7 @@ class RecordReader {
                const std::string& source, const std::string& what);
   std::string text(const std::string& name);
   int integer(const std::string& name, std::int64_t lo, std::int64_t hi);
-  /// A finite matrix with `rows` rows and `cols` columns (cols < 0: any).
+  /// A finite matrix with `rows` rows and `cols` columns (negative: any).
   const Eigen::MatrixXd& matrix(const std::string& name, Eigen::Index rows, Eigen::Index cols);
   bool has(const std::string& name) const { return recs_.count(name) != 0; }
   /// Throws if a record was never read (an unknown record).
