@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "../synthesis/design_fixture.hpp"
+#include "tmpc/explicit/explicit_solver.hpp"
 #include "tmpc/solvers/solver.hpp"
 
 namespace {
@@ -37,6 +38,25 @@ TEST(SolverAllocation, SolveAllocatesNothing) {
       s->solve(x0);
     }
     EXPECT_EQ(g_allocations.load() - before, 0) << name << " allocated in solve()";
+  }
+}
+
+TEST(SolverAllocation, ExplicitSolveAllocatesNothing) {
+  const ControllerArtifact a = make_artifact(test::quick_design());
+  ExplicitOptions o;  // a small law is enough: the online path is the same
+  o.N = 1;
+  o.M = 1;
+  o.domain_fraction = 0.2;
+  for (Locator loc : {Locator::Tree, Locator::Scan}) {
+    auto s = make_explicit_solver(a, build_explicit_law(a, o), loc, loc == Locator::Scan ? 2 : 1);
+    Eigen::VectorXd x0 = Eigen::VectorXd::Zero(24);
+    ASSERT_EQ(s->solve(x0).status, SolveStatus::Converged);  // warm-up (OpenMP's thread pool)
+    const long before = g_allocations.load();
+    for (int k = 0; k < 20; ++k) {
+      x0(0) = 1e-3 * k;
+      s->solve(x0);
+    }
+    EXPECT_EQ(g_allocations.load() - before, 0) << "explicit solve allocated";
   }
 }
 

@@ -1,0 +1,126 @@
+// The explicit law of the case study (the config's explicit horizon and box): the
+// affine laws equal the reference QP solution, every located point is feasible and
+// every feasible point is located (an LP decides feasibility), the scan (1 and 2
+// threads) and the tree agree, the companion file is strict.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "../synthesis/design_fixture.hpp"
+#include "tmpc/explicit/explicit_law.hpp"
+#include "tmpc/explicit/explicit_solver.hpp"
+#include "tmpc/synthesis/record_file.hpp"
+
+namespace tmpc {
+namespace {
+
+const ControllerArtifact& artifact() {
+  static const ControllerArtifact a = make_artifact(test::quick_design());
+  return a;
+}
+
+ExplicitOptions options() {
+  const ExplicitSettings e = test::quick_config().explicit_mpc;
+  ExplicitOptions o;
+  o.N = e.horizon;
+  o.M = e.control_horizon;
+  o.domain_fraction = e.domain_fraction;
+  return o;
+}
+
+const ExplicitLaw& law() {
+  static const ExplicitLaw l = build_explicit_law(artifact(), options());
+  return l;
+}
+
+TEST(ExplicitLaw, CaseStudyPartitionIsCompleteAndMatchesTheReferenceAt100kPoints) {
+  const ExplicitLaw& l = law();
+  ASSERT_TRUE(l.stats.complete) << l.stats.stop_reason;
+  EXPECT_GT(l.regions(), 50);
+  EXPECT_EQ(l.stats.unresolved_facets, 0);
+  const MpQp mp = explicit_mpqp(artifact(), options());
+  ParametricQp q;
+  q.H = mp.H;
+  q.F = mp.F;
+  q.f0 = mp.f;
+  q.A = mp.G;
+  q.E = -mp.S;
+  q.hi0 = mp.w;
+  q.lo0 = Eigen::VectorXd::Constant(mp.w.size(), -std::numeric_limits<double>::infinity());
+  auto ref = make_reference_solver(q);
+  const RegionScan scan1(l.table, 1), scan2(l.table, 2);
+  std::mt19937_64 rng(11);
+  Eigen::VectorXd th(l.n), z(l.nz);
+  int located = 0, infeasible = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 100000; ++k) {
+    for (int j = 0; j < l.n; ++j) th(j) = std::uniform_real_distribution<double>(l.domain.lo(j), l.domain.hi(j))(rng);
+    const int r1 = scan1.locate(th);
+    ASSERT_EQ(scan2.locate(th), r1) << "sample " << k;
+    ASSERT_EQ(l.tree.locate(l.table, th), r1) << "sample " << k;
+    if (r1 < 0) {
+      ASSERT_FALSE(mpqp_feasible(mp, th)) << "feasible sample " << k << " outside every region (a hole)";
+      ++infeasible;
+      continue;
+    }
+    ++located;
+    const SolveResult& s = ref->solve(th);
+    ASSERT_EQ(s.status, SolveStatus::Converged) << "sample " << k;
+    l.evaluate(r1, th, z);
+    worst = std::max(worst, (z - s.z).cwiseAbs().maxCoeff());
+    ASSERT_LE((z - s.z).cwiseAbs().maxCoeff(), 1e-6) << "sample " << k << " region " << r1;
+  }
+  EXPECT_GT(located, 10000);
+  EXPECT_GT(infeasible, 0);  // the box reaches outside the feasible set: those points say so
+  std::printf("explicit law: %d regions, %d of 100000 samples located, max |z - z_ref| %.2e\n", l.regions(), located,
+              worst);
+}
+
+TEST(ExplicitLaw, SolverReportsInfeasibleOutsideThePartitionAndAllocatesNothingPerSolve) {
+  auto s = make_explicit_solver(artifact(), law());
+  const Eigen::VectorXd center = law().domain.center();
+  EXPECT_EQ(s->solve(center).status, SolveStatus::Converged);
+  Eigen::VectorXd far = law().domain.hi + Eigen::VectorXd::Constant(law().n, 0.1);
+  EXPECT_EQ(s->solve(far).status, SolveStatus::Infeasible);
+  EXPECT_EQ(s->solve(Eigen::VectorXd::Constant(3, 0.0)).status, SolveStatus::InvalidInput);
+  Eigen::VectorXd nan = center;
+  nan(4) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(s->solve(nan).status, SolveStatus::InvalidInput);
+}
+
+TEST(ExplicitLaw, CompanionFileRoundTripsAndRejectsCorruptionAndAnotherArtifact) {
+  const std::vector<std::uint8_t> bytes = serialize_explicit(law());
+  const ExplicitLaw back = deserialize_explicit(bytes, "mem");
+  EXPECT_EQ(back.regions(), law().regions());
+  EXPECT_EQ(back.table.H, law().table.H);
+  EXPECT_EQ(back.Kz, law().Kz);
+  EXPECT_EQ(back.tree.nodes.size(), law().tree.nodes.size());
+  std::mt19937 rng(2);
+  Eigen::VectorXd th(law().n);
+  for (int k = 0; k < 1000; ++k) {
+    for (int j = 0; j < law().n; ++j) th(j) = std::uniform_real_distribution<double>(law().domain.lo(j), law().domain.hi(j))(rng);
+    ASSERT_EQ(back.tree.locate(back.table, th), law().tree.locate(law().table, th));
+  }
+  std::vector<std::uint8_t> bad = bytes;
+  bad[bad.size() / 2] ^= 0x40;
+  try {
+    deserialize_explicit(bad, "bad.tmpcx");
+    FAIL() << "a corrupt file was accepted";
+  } catch (const RecordFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
+  }
+  const std::string path = ::testing::TempDir() + "law.tmpcx";
+  save_explicit(law(), path);
+  EXPECT_NO_THROW(load_explicit(path, &artifact()));
+  ControllerArtifact other = artifact();
+  other.margin += 1.0;
+  try {
+    load_explicit(path, &other);
+    FAIL() << "a law of another artifact was accepted";
+  } catch (const RecordFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("another controller artifact"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tmpc
