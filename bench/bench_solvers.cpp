@@ -9,60 +9,14 @@
 
 #include <benchmark/benchmark.h>
 
-#include "tmpc/model/config.hpp"
-#include "tmpc/solvers/solver.hpp"
-#include "tmpc/synthesis/artifact.hpp"
-#include "tmpc/synthesis/design.hpp"
+#include "case_study.hpp"
 
 namespace {
 
-using tmpc::ControllerArtifact;
-
-const ControllerArtifact& artifact() {
-  static const ControllerArtifact a = [] {
-    tmpc::Config c = tmpc::load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor.yaml");
-    c.synthesis.compare_gains = false;
-    c.synthesis.verify_directions = 50;
-    return tmpc::make_artifact(tmpc::design_controller(c, ""));
-  }();
-  return a;
-}
-
-tmpc::MpcQpData data_for(int N) {
-  const ControllerArtifact& a = artifact();
-  return tmpc::build_mpc_qp(a.A, a.B, a.Sigma_rho, a.Sigma_lambda, a.L, a.x_bar, a.u_bar, N, std::min(4, N));
-}
-
-std::vector<Eigen::VectorXd> cold_states(int count) {
-  std::mt19937_64 rng(42);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Eigen::VectorXd> xs;
-  for (int k = 0; k < count; ++k) {
-    Eigen::VectorXd x(24);
-    for (int i = 0; i < 24; ++i) x(i) = 0.03 * u(rng) * artifact().x_bar.hi(i);
-    xs.push_back(x);
-  }
-  return xs;
-}
-
-/// A closed-loop-like sequence: the nominal closed loop under the reference solver's
-/// input plus a small random kick per step (the tube feedback's effect).
-std::vector<Eigen::VectorXd> warm_states(const tmpc::MpcQpData& d, int count) {
-  tmpc::SolverOptions o;
-  o.warm_start = false;
-  auto ref = tmpc::make_solver("reference", d, o);
-  std::mt19937_64 rng(43);
-  std::normal_distribution<double> g(0.0, 1e-4);
-  Eigen::VectorXd x = cold_states(1)[0];
-  std::vector<Eigen::VectorXd> xs;
-  for (int k = 0; k < count; ++k) {
-    xs.push_back(x);
-    const Eigen::Vector4d u = ref->solve(x).u0();
-    x = d.A * x + d.B * u;
-    for (int i = 0; i < 24; ++i) x(i) += g(rng);
-  }
-  return xs;
-}
+using bench_case::artifact;
+using bench_case::cold_states;
+using bench_case::data_for;
+using bench_case::warm_states;
 
 void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc::SolverOptions o) {
   const tmpc::MpcQpData d = data_for(N);
@@ -96,14 +50,10 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
     }
     ++k;
   }
-  std::sort(times.begin(), times.end());
-  auto pct = [&](double p) { return times[std::min(times.size() - 1, static_cast<std::size_t>(p * times.size()))]; };
-  st.counters["median_us"] = pct(0.5);
-  st.counters["p99_us"] = pct(0.99);
-  st.counters["max_us"] = times.back();
   st.counters["iterations"] = iters / static_cast<double>(times.size());
   st.counters["converged_pct"] = 100.0 * converged / static_cast<double>(times.size());
   if (gap) st.counters["thesis_gap"] = worst_gap;
+  bench_case::time_counters(st, std::move(times));
 }
 
 void register_all() {

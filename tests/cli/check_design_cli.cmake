@@ -1,15 +1,37 @@
-# tmpc design -> inspect -> export-qp on a quick variant of the default config, and a
-# corrupted artifact rejected with a message.
+# tmpc design --explicit -> inspect -> export-qp -> solve/simulate with the explicit law
+# on a quick variant of the default config, and a corrupted artifact rejected with a message.
 file(READ ${SRC}/config/tiltrotor.yaml text)
 string(REPLACE "compare_gains: true" "compare_gains: false" text "${text}")
 string(REPLACE "verify_directions: 2000" "verify_directions: 100" text "${text}")
 set(dir ${CMAKE_CURRENT_BINARY_DIR}/design_cli)
 file(MAKE_DIRECTORY ${dir})
 file(WRITE ${dir}/quick.yaml "${text}")
-execute_process(COMMAND ${TMPC} design --config ${dir}/quick.yaml --out ${dir}/c.tmpc --report ${dir}/r.json
+execute_process(COMMAND ${TMPC} design --config ${dir}/quick.yaml --out ${dir}/c.tmpc --report ${dir}/r.json --explicit
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0 OR NOT out MATCHES "tightened sets non-empty")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "tightened sets non-empty" OR NOT out MATCHES "regions, complete")
   message(FATAL_ERROR "design failed: ${out}${err}")
+endif()
+string(REPEAT "0.01," 23 x0)
+execute_process(COMMAND ${TMPC} solve --controller ${dir}/c.tmpc --solver explicit --x0 "${x0}0.01"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "explicit: converged")
+  message(FATAL_ERROR "solve --solver explicit failed: ${out}${err}")
+endif()
+string(REPEAT "0.9," 23 far)
+execute_process(COMMAND ${TMPC} solve --controller ${dir}/c.tmpc --solver explicit --x0 "${far}0.9"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "explicit: infeasible")
+  message(FATAL_ERROR "a state outside the partition was not reported infeasible: ${out}${err}")
+endif()
+execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver explicit --duration 10 --out ${dir}/sim
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "fallbacks 0," OR NOT EXISTS ${dir}/sim/metrics.json)
+  message(FATAL_ERROR "simulate --solver explicit failed: ${out}${err}")
+endif()
+execute_process(COMMAND ${TMPC} solve --controller ${dir}/c.tmpc --solver explicit --explicit ${dir}/missing.tmpcx
+                        --x0 "${x0}0.01" RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(rc EQUAL 0 OR NOT err MATCHES "missing.tmpcx: cannot open")
+  message(FATAL_ERROR "a missing explicit law was not reported: ${err}")
 endif()
 execute_process(COMMAND ${TMPC} inspect ${dir}/c.tmpc RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "24 states, 4 inputs")
@@ -33,4 +55,4 @@ execute_process(COMMAND ${TMPC} inspect ${dir}/truncated.tmpc RESULT_VARIABLE rc
 if(rc EQUAL 0 OR NOT err MATCHES "truncated")
   message(FATAL_ERROR "an empty artifact was accepted: ${err}")
 endif()
-message(STATUS "design, inspect, export-qp: ok")
+message(STATUS "design --explicit, inspect, export-qp, solve/simulate explicit: ok")
