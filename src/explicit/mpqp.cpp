@@ -291,9 +291,9 @@ class Explorer {
 
 Partition solve_mpqp(const MpQp& p, const MpQpOptions& opt) {
   if (opt.max_regions < 1 || !(opt.time_limit_s > 0.0) || !(opt.min_radius > 0.0) || !(opt.step > 0.0) ||
-      opt.coverage_samples < 0 || opt.coverage_passes < 0) {
+      opt.coverage_samples < 1 || opt.coverage_passes < 1) {
     throw std::invalid_argument("mpQP options: max_regions >= 1, time_limit_s > 0, min_radius > 0, step > 0, "
-                                "coverage_samples >= 0 and coverage_passes >= 0 are required");
+                                "coverage_samples >= 1 and coverage_passes >= 1 are required");
   }
   return Explorer(p, opt).run();
 }

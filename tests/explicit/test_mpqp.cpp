@@ -142,6 +142,19 @@ TEST(MpQp, DoubleIntegratorMatchesTheReferenceAndIgnoresRedundantRows) {
   expect_matches_reference(redundant, with_redundant_rows(q), 5000, 6);
 }
 
+TEST(MpQp, SaysWhenItGivesUp) {
+  const ParametricQp q = ParametricQp::from_mpc(double_integrator(3));
+  MpQpOptions o;
+  o.max_regions = 3;
+  const Partition part = solve_mpqp(MpQp::from_parametric(q, Box(Eigen::Vector2d(-8, -2), Eigen::Vector2d(8, 2))), o);
+  EXPECT_FALSE(part.stats.complete);
+  EXPECT_EQ(part.regions.size(), 3u);
+  EXPECT_NE(part.stats.stop_reason.find("region limit 3"), std::string::npos) << part.stats.stop_reason;
+  o.max_regions = 0;
+  EXPECT_THROW(solve_mpqp(MpQp::from_parametric(q, Box(Eigen::Vector2d(-8, -2), Eigen::Vector2d(8, 2))), o),
+               std::invalid_argument);
+}
+
 TEST(MpQp, BadInputIsRejectedWithTheReason) {
   ParametricQp q = saturation_1d(false);
   q.H(0, 0) = -1.0;
