@@ -9,6 +9,7 @@
 namespace tmpc::detail {
 
 namespace {
+constexpr double kPolishBand = 100.0;  // polish once both residuals are within this factor of the tolerance
 inline double now_us() {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -55,7 +56,11 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   K_.resize(n, n);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
   factor();
-  for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_}) v->setZero(n);
+  for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_, &xp_}) v->setZero(n);
+  yp_.setZero(m);
+  polish_ = ActiveSetPolish(static_cast<int>(n), static_cast<int>(m));
+  tried_rows_.reserve(static_cast<std::size_t>(n));
+  tried_signs_.reserve(static_cast<std::size_t>(n));
   for (Eigen::VectorXd* v : {&z_, &y_, &zh_, &yh_, &zprev_, &yprev_, &zt_, &yhalf_, &tmp_m_, &Ax_, &los_, &his_}) v->setZero(m);
 }
 
@@ -68,6 +73,28 @@ void DenseAdmm::factor() {
   K_ += H_;
   K_.diagonal().array() += opt_.sigma;
   llt_.compute(K_);
+}
+
+bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  polish_.clear();
+  for (Eigen::Index i = 0; i < z_.size(); ++i) {
+    const bool eq = equality_[static_cast<std::size_t>(i)];
+    const bool up = eq || hi(i) - z_(i) < y_(i) * rho_inv_(i);   // OSQP's rule: u - z < y / rho
+    const bool low = !up && z_(i) - lo(i) < -y_(i) * rho_inv_(i);  // z - l < -y / rho
+    if ((up || low) && !polish_.add(static_cast<int>(i), up)) return false;
+  }
+  if (polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;  // already failed
+  if (!polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_)) {
+    tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
+    tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
+    return false;
+  }
+  x_ = xp_;
+  y_ = yp_;
+  z_.noalias() = A_ * x_;
+  z_ = z_.cwiseMax(lo).cwiseMin(hi);
+  zt_ = z_;
+  return true;
 }
 
 void DenseAdmm::shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs) {
@@ -112,6 +139,8 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   zprev_ = z_;
   yprev_ = y_;
   NesterovRestart nesterov;
+  tried_rows_.clear();
+  tried_signs_.clear();
   res.restarts = 0;
   res.status = SolveStatus::MaxIterations;
   const double f_norm = inf_norm(f_in);
@@ -178,6 +207,15 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     const double eps_p = opt_.eps_abs + opt_.eps_rel * std::max(inf_norm(Ax_), inf_norm(tmp_m_));
     const double eps_d = opt_.eps_abs + opt_.eps_rel * std::max({inf_norm(Hx_), inf_norm(Aty_), f_norm});
     if (r_prim <= eps_p && r_dual <= eps_d) {
+      res.status = SolveStatus::Converged;
+      break;
+    }
+    if (opt_.polish && r_prim <= kPolishBand * eps_p && r_dual <= kPolishBand * eps_d && try_polish(f, lo, hi)) {
+      // x_, z_ = A x_, y_ now the exact KKT point of the guessed active set.
+      Hx_.noalias() = H_ * x_;
+      Aty_.noalias() = At_ * y_;
+      res.primal_residual = 0.0;
+      res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
       res.status = SolveStatus::Converged;
       break;
     }

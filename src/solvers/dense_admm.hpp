@@ -13,7 +13,9 @@
 // ||H x + f + A'y||_inf <= eps_abs + eps_rel max(||Hx||, ||A'y||, ||f||), in the
 // original units. The problem is equilibrated once (Ruiz, 15 passes on [H A'; A 0]
 // plus a cost scaling) and solved in scaled coordinates x~ = D^-1 x, z~ = E z,
-// y~ = c E^-1 y.
+// y~ = c E^-1 y. Once the residuals are within 10x the tolerance, the active set
+// read from (z, y) is polished (an exact equality-constrained solve accepted only if
+// it is a KKT point), which ends the slow tail of ADMM (option `polish`).
 #pragma once
 
 #include <vector>
@@ -21,6 +23,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "active_set_polish.hpp"
 #include "tmpc/solvers/solver.hpp"
 
 namespace tmpc::detail {
@@ -42,6 +45,9 @@ class DenseAdmm {
 
  private:
   void factor();
+  /// OSQP-style polish: guess the active set from (z, y), solve its KKT system exactly;
+  /// true (and x_, y_, z_ replaced) when that is a KKT point of the scaled problem.
+  bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
 
   Eigen::MatrixXd H_, A_, At_, K_;   // scaled: H~ = c D H D, A~ = E A D (Ruiz)
@@ -57,6 +63,10 @@ class DenseAdmm {
   // Workspace and memory (warm start).
   Eigen::VectorXd x_, z_, y_, zh_, yh_, zprev_, yprev_, xt_, zt_, yhalf_, rhs_, tmp_n_, tmp_m_, Ax_, Hx_, Aty_;
   Eigen::VectorXd fs_, los_, his_;    // scaled instance
+  ActiveSetPolish polish_;            // the active-set guess
+  std::vector<int> tried_rows_;       // the last guess that failed (capacity reserved)
+  std::vector<double> tried_signs_;
+  Eigen::VectorXd xp_, yp_;
 };
 
 }  // namespace tmpc::detail

@@ -13,7 +13,7 @@ inline double now_us() {
 }  // namespace
 
 ReferenceQp::ReferenceQp(const ParametricQp& qp, const SolverOptions& opt)
-    : qp_(qp), opt_(opt), nz_(qp.nz()), nc_(qp.nc()) {
+    : qp_(qp), opt_(opt), nz_(qp.nz()), nc_(qp.nc()), polish_(qp.nz(), qp.nc()) {
   f_.resize(nz_);
   lo_.resize(nc_);
   hi_.resize(nc_);
@@ -23,8 +23,6 @@ ReferenceQp::ReferenceQp(const ParametricQp& qp, const SolverOptions& opt)
   AtW_.resize(nz_, nc_);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(nz_);
   active_row_.assign(static_cast<std::size_t>(2 * nc_), 0);
-  act_idx_.reserve(static_cast<std::size_t>(nz_));
-  act_sign_.reserve(static_cast<std::size_t>(nz_));
   res_.z.resize(nz_);
   res_.y.resize(nc_);
 }
@@ -191,8 +189,7 @@ bool ReferenceQp::polish() {
 }
 
 bool ReferenceQp::polish_with(bool primal_activity) {
-  act_idx_.clear();
-  act_sign_.clear();
+  polish_.clear();
   Gz_.head(nc_).noalias() = qp_.A * z_;
   for (int i = 0; i < nc_; ++i) {
     bool up, low;
@@ -203,52 +200,9 @@ bool ReferenceQp::polish_with(bool primal_activity) {
       up = active_row_[static_cast<std::size_t>(i)] && lam_(i) > s_(i);
       low = active_row_[static_cast<std::size_t>(nc_ + i)] && lam_(nc_ + i) > s_(nc_ + i);
     }
-    if (up || low) {
-      if (static_cast<int>(act_idx_.size()) >= nz_) return false;  // more than LICQ allows
-      act_idx_.push_back(i);
-      act_sign_.push_back(up ? 1.0 : -1.0);
-    }
+    if ((up || low) && !polish_.add(i, up)) return false;  // more than LICQ allows
   }
-  const int k = static_cast<int>(act_idx_.size());
-  const int size = nz_ + k;
-  if (size > 128) return false;
-  kkt_.setZero(size, size);
-  rhs_small_.resize(size);
-  kkt_.topLeftCorner(nz_, nz_) = qp_.H;
-  rhs_small_.head(nz_) = -f_;
-  for (int j = 0; j < k; ++j) {
-    const int i = act_idx_[static_cast<std::size_t>(j)];
-    kkt_.block(nz_ + j, 0, 1, nz_) = qp_.A.row(i);
-    kkt_.block(0, nz_ + j, nz_, 1) = qp_.A.row(i).transpose();
-    rhs_small_(nz_ + j) = act_sign_[static_cast<std::size_t>(j)] > 0 ? hi_(i) : lo_(i);
-  }
-  lu_.compute(kkt_);
-  sol_ = lu_.solve(rhs_small_);
-  // Two steps of iterative refinement (nearly dependent active rows).
-  for (int pass = 0; pass < 2; ++pass) {
-    rhs_small_.noalias() -= kkt_ * sol_;
-    sol_ += lu_.solve(rhs_small_);
-    rhs_small_.head(nz_) = -f_;
-    for (int j = 0; j < k; ++j) {
-      const int i = act_idx_[static_cast<std::size_t>(j)];
-      rhs_small_(nz_ + j) = act_sign_[static_cast<std::size_t>(j)] > 0 ? hi_(i) : lo_(i);
-    }
-  }
-  if (!sol_.allFinite()) return false;
-  // Accept only a KKT point: feasible, multipliers of the right sign.
-  const double ymax = k > 0 ? sol_.tail(k).cwiseAbs().maxCoeff() : 0.0;
-  for (int j = 0; j < k; ++j) {
-    if (sol_(nz_ + j) * act_sign_[static_cast<std::size_t>(j)] < -1e-10 * std::max(1.0, ymax)) return false;
-  }
-  t2_ = sol_.head(nz_);
-  Gz_.head(nc_).noalias() = qp_.A * t2_;
-  for (int i = 0; i < nc_; ++i) {
-    if (Gz_(i) > hi_(i) + 1e-10 || Gz_(i) < lo_(i) - 1e-10) return false;
-  }
-  res_.z = t2_;
-  res_.y.setZero();
-  for (int j = 0; j < k; ++j) res_.y(act_idx_[static_cast<std::size_t>(j)]) = sol_(nz_ + j);
-  return true;
+  return polish_.solve(qp_.H, qp_.A, f_, lo_, hi_, 1e-10, res_.z, res_.y);
 }
 
 }  // namespace tmpc::detail

@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "active_set_polish.hpp"
 #include "dense_admm.hpp"
 #include "tmpc/qp/mpc_qp.hpp"
 #include "tmpc/solvers/solver.hpp"
@@ -113,14 +114,7 @@ class ReferenceQp final : public QpSolver {
   std::vector<char> active_row_;  // finite bound
   Eigen::MatrixXd Mred_, AtW_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  // Polish (static storage: no heap use).
-  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 128, 128>;
-  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 128, 1>;
-  Small kkt_;
-  SmallVec sol_, rhs_small_;
-  Eigen::PartialPivLU<Small> lu_;
-  std::vector<int> act_idx_;
-  std::vector<double> act_sign_;
+  ActiveSetPolish polish_;
   SolveResult res_;
 };
 

@@ -50,6 +50,9 @@ struct SolverOptions {
                                  ///< (the thesis variant always uses it; measured slower for
                                  ///< the exact variant on the case study, see the benchmark)
   double eta = 0.999;            ///< restart factor
+  bool polish = true;            ///< exact ADMM: polish the active set once the residuals are
+                                 ///< within 10x the tolerance (OSQP-style; the exact KKT point
+                                 ///< of the guessed active set, accepted only if it is one)
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
