@@ -1,4 +1,4 @@
-// tmpc simulate --config FILE --controller FILE.tmpc [--solver] [--plant el|mujoco]
+// tmpc simulate --config FILE --controller FILE.tmpc [--solver] [--plant el|mujoco] [--monte-carlo K --seed S]
 //   [--duration 80] [--no-disturbance] [--run K] [--reinit] --out DIR
 // The helix mission in-process on a virtual clock: telemetry.csv and metrics.json.
 #include <cstdio>
@@ -8,7 +8,9 @@
 
 #include "commands.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
+#include "tmpc/metrics/campaign.hpp"
 #include "tmpc/metrics/mission.hpp"
+#include "tmpc/model/config.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
 namespace tmpc::cli {
@@ -19,8 +21,47 @@ struct SimOptions {
   std::string controller, config, out = "out", solver = "admm", plant = "el", explicit_law;
   double duration = 80.0;
   bool no_disturbance = false, reinit = false;
-  int run = -1;
+  int run = -1, monte_carlo = 0;
+  long seed = -1;
 };
+
+void print_metrics(const MissionMetrics& r) {
+  std::printf("  RMSE x %.4f m, y %.4f m, z %.4f m, psi %.5f rad; max |error| x %.3f y %.3f z %.3f m\n", r.rmse[0],
+              r.rmse[1], r.rmse[2], r.rmse[5], r.max_abs_error[0], r.max_abs_error[1], r.max_abs_error[2]);
+  std::printf("  periods %ld, fallbacks %ld, clipped %ld, state-constraint violations %ld, tube exits %ld%s\n",
+              r.periods, r.fallback_periods, r.clipped_periods, r.state_constraint_violations, r.tube_exits,
+              r.diverged ? ", DIVERGED" : "");
+  std::printf("  solve time us: min %.1f, median %.1f, p99 %.1f, max %.1f; iterations mean %.1f, max %d\n",
+              r.solve_min, r.solve_p50, r.solve_p99, r.solve_max, r.iterations_mean, r.iterations_max);
+}
+
+// --monte-carlo K: K runs with masses and inertias perturbed (run index 0..K-1 of the
+// seeded distribution), each in OUT/run_K/, the campaign in OUT/metrics.json.
+void run_campaign(const SimOptions& o, const ControllerArtifact& a, MissionOptions m) {
+  std::vector<MissionMetrics> runs;
+  const Config cfg = load_config_from_string(a.config_text, o.controller);
+  const unsigned seed = o.seed >= 0 ? static_cast<unsigned>(o.seed) : cfg.perturbation.seed;
+  m.seed = seed;
+  std::printf("Monte Carlo: %d runs, masses and inertias +-%.0f %% (%s, seed %u), %.0f s each, solver %s\n",
+              o.monte_carlo, 100.0 * cfg.perturbation.fraction, cfg.perturbation.distribution.c_str(), seed,
+              o.duration, o.solver.c_str());
+  for (int k = 0; k < o.monte_carlo; ++k) {
+    const std::string dir = o.out + "/run_" + std::to_string(k);
+    std::filesystem::create_directories(dir);
+    m.run = k;
+    m.telemetry_csv = dir + "/telemetry.csv";
+    std::fprintf(stderr, "\r  run %d/%d ...", k + 1, o.monte_carlo);
+    runs.push_back(run_mission(a, m));
+    std::ofstream(dir + "/metrics.json") << metrics_json(runs.back()) << "\n";
+  }
+  std::fprintf(stderr, "\r");
+  std::ofstream(o.out + "/metrics.json") << campaign_json(runs, seed) << "\n";
+  for (int k = 0; k < o.monte_carlo; ++k) {
+    std::printf("run %d:\n", k);
+    print_metrics(runs[static_cast<std::size_t>(k)]);
+  }
+  std::printf("  %s/metrics.json (campaign), %s/run_K/\n", o.out.c_str(), o.out.c_str());
+}
 
 void run_simulate(const SimOptions& o) {
   const ControllerArtifact a = load_artifact(o.controller);
@@ -34,18 +75,17 @@ void run_simulate(const SimOptions& o) {
   m.reinitialize_nominal = o.reinit;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
+  m.seed = o.seed;
+  if (o.monte_carlo > 0) {
+    run_campaign(o, a, m);
+    return;
+  }
   const MissionMetrics r = run_mission(a, m);
   std::ofstream(o.out + "/metrics.json") << metrics_json(r) << "\n";
   std::printf("helix mission, %.0f s, plant %s, solver %s%s%s\n", o.duration, o.plant.c_str(), o.solver.c_str(),
               m.disturbance ? ", 1 N steps at 20/40/60 s" : ", no disturbance",
               o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "");
-  std::printf("  RMSE x %.4f m, y %.4f m, z %.4f m, psi %.5f rad; max |error| x %.3f y %.3f z %.3f m\n", r.rmse[0],
-              r.rmse[1], r.rmse[2], r.rmse[5], r.max_abs_error[0], r.max_abs_error[1], r.max_abs_error[2]);
-  std::printf("  periods %ld, fallbacks %ld, clipped %ld, state-constraint violations %ld, tube exits %ld%s\n",
-              r.periods, r.fallback_periods, r.clipped_periods, r.state_constraint_violations, r.tube_exits,
-              r.diverged ? ", DIVERGED" : "");
-  std::printf("  solve time us: min %.1f, median %.1f, p99 %.1f, max %.1f; iterations mean %.1f, max %d\n",
-              r.solve_min, r.solve_p50, r.solve_p99, r.solve_max, r.iterations_mean, r.iterations_max);
+  print_metrics(r);
   std::printf("  %s/metrics.json, %s/telemetry.csv\n", o.out.c_str(), o.out.c_str());
 }
 
@@ -63,6 +103,10 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--duration", o->duration, "seconds")->check(CLI::PositiveNumber);
   sub->add_flag("--no-disturbance", o->no_disturbance, "without the 1 N steps");
   sub->add_option("--run", o->run, "Monte Carlo run index (masses and inertias perturbed)");
+  sub->add_option("--monte-carlo", o->monte_carlo, "K perturbed runs (thesis: 10), campaign metrics in OUT/metrics.json")
+      ->check(CLI::Range(1, 100000));
+  sub->add_option("--seed", o->seed, "perturbation seed (default: the config's perturbation.seed)")
+      ->check(CLI::NonNegativeNumber);
   sub->add_flag("--reinit", o->reinit, "re-initialise the nominal state to the measured error when admissible");
   sub->add_option("--out", o->out, "output directory");
   sub->callback([o]() { run_simulate(*o); });

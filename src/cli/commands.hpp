@@ -23,6 +23,7 @@ void register_simulate(CLI::App& app);
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
 void register_explicit(CLI::App& app);
+void register_compare(CLI::App& app);
 
 }  // namespace tmpc::cli
 

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   tmpc::cli::register_simulate(app);
   tmpc::cli::register_devices(app);
   tmpc::cli::register_explicit(app);
+  tmpc::cli::register_compare(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

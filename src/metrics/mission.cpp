@@ -15,7 +15,8 @@
 namespace tmpc {
 
 MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o) {
-  const Config cfg = load_config_from_string(a.config_text, "artifact");
+  Config cfg = load_config_from_string(a.config_text, "artifact");
+  if (o.seed >= 0) cfg.perturbation.seed = static_cast<unsigned>(o.seed);
   const TiltrotorModel model(cfg.vehicle);
   const HelixTrajectory traj(cfg.reference, model);
   auto plant = make_plant(o.plant, cfg, o.disturbance, o.run);

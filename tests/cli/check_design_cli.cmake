@@ -28,6 +28,23 @@ execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver exp
 if(NOT rc EQUAL 0 OR NOT out MATCHES "fallbacks 0," OR NOT EXISTS ${dir}/sim/metrics.json)
   message(FATAL_ERROR "simulate --solver explicit failed: ${out}${err}")
 endif()
+# Monte Carlo campaigns and their comparison (Welch t-test over the runs).
+foreach(solver admm explicit)
+  execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver ${solver} --duration 3 --monte-carlo 2
+                          --seed 4 --out ${dir}/mc_${solver} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT EXISTS ${dir}/mc_${solver}/run_1/metrics.json OR NOT out MATCHES "2 runs")
+    message(FATAL_ERROR "simulate --monte-carlo failed: ${out}${err}")
+  endif()
+endforeach()
+execute_process(COMMAND ${TMPC} compare ${dir}/mc_admm/metrics.json ${dir}/mc_explicit/metrics.json
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "Welch" OR NOT out MATCHES "rmse/x")
+  message(FATAL_ERROR "compare failed: ${out}${err}")
+endif()
+execute_process(COMMAND ${TMPC} compare ${dir}/mc_admm/metrics.json ${dir}/r.json RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(rc EQUAL 0 OR NOT err MATCHES "not a tmpc metrics.json")
+  message(FATAL_ERROR "compare accepted a design report: ${err}")
+endif()
 execute_process(COMMAND ${TMPC} solve --controller ${dir}/c.tmpc --solver explicit --explicit ${dir}/missing.tmpcx
                         --x0 "${x0}0.01" RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
 if(rc EQUAL 0 OR NOT err MATCHES "missing.tmpcx: cannot open")

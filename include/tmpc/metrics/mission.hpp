@@ -19,6 +19,7 @@ struct MissionOptions {
   double duration = 80.0;
   bool disturbance = true;
   int run = -1;                   ///< Monte Carlo run (masses and inertias perturbed), -1: nominal
+  long seed = -1;                 ///< perturbation seed, -1: the config's
   bool reinitialize_nominal = false;
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
