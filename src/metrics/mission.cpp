@@ -51,6 +51,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     csv.open(o.telemetry_csv);
     csv << "t";
     for (const char* n : kCoordNames) csv << ",e_" << n;
+    for (const char* n : kCoordNames) csv << ",r_" << n;
     csv << ",u_f_r,u_f_l,u_tau_r,u_tau_l,ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,status,iterations,solve_us,fallback,"
            "clipped,in_tube,in_state_box\n";
   }
@@ -96,6 +97,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     if (csv) {
       csv << t;
       for (int i = 0; i < 10; ++i) csv << "," << xt(i);
+      for (int i = 0; i < 10; ++i) csv << "," << r.q(i);
       for (int i = 0; i < 4; ++i) csv << "," << s.u(i);
       for (int i = 0; i < 4; ++i) csv << "," << s.u_bar(i);
       csv << "," << to_string(s.status) << "," << s.iterations << "," << s.solve_us << "," << s.fallback << ","

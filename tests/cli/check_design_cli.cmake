@@ -45,6 +45,19 @@ execute_process(COMMAND ${TMPC} compare ${dir}/mc_admm/metrics.json ${dir}/r.jso
 if(rc EQUAL 0 OR NOT err MATCHES "not a tmpc metrics.json")
   message(FATAL_ERROR "compare accepted a design report: ${err}")
 endif()
+# Mission plots (thesis Figures 6.11-6.21) of a single run and of a campaign.
+if(PYTHON)
+  execute_process(COMMAND ${PYTHON} ${SRC}/scripts/plot_mission.py ${dir}/sim ${dir}/mc_admm
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  foreach(png path_3d position_errors attitude swing tilt inputs solve_times_violin)
+    if(NOT EXISTS ${dir}/sim/plots/${png}.png)
+      message(FATAL_ERROR "plot_mission.py wrote no ${png}.png: ${out}${err}")
+    endif()
+  endforeach()
+  if(NOT rc EQUAL 0 OR NOT EXISTS ${dir}/mc_admm/run_1/plots/path_3d.png)
+    message(FATAL_ERROR "plot_mission.py failed on a campaign: ${out}${err}")
+  endif()
+endif()
 execute_process(COMMAND ${TMPC} solve --controller ${dir}/c.tmpc --solver explicit --explicit ${dir}/missing.tmpcx
                         --x0 "${x0}0.01" RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
 if(rc EQUAL 0 OR NOT err MATCHES "missing.tmpcx: cannot open")

@@ -1,0 +1,128 @@
+#!/usr/bin/python3
+"""Plots of a closed-loop mission, like thesis Figures 6.11-6.21.
+
+Usage: scripts/plot_mission.py DIR [DIR ...]
+DIR holds telemetry.csv (tmpc simulate --out DIR); a Monte Carlo campaign directory
+(with run_K/ folders) is plotted run by run. PNGs go to DIR/plots/: the 3-D path with
+the reference, position errors, attitude, swing and tilt angles, thrusts and torques,
+and a violin plot of the solve times of every DIR given (one violin each).
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+DISTURBANCE_TIMES = (20.0, 40.0, 60.0)
+
+
+def read(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        raise SystemExit(f"{path}: no telemetry rows")
+    cols = {k: [] for k in rows[0]}
+    for r in rows:
+        for k, v in r.items():
+            try:
+                cols[k].append(float(v))
+            except ValueError:
+                cols[k].append(v)
+    for k in ("t", "e_x", "r_x", "u_f_r", "solve_us"):
+        if k not in cols:
+            raise SystemExit(f"{path}: column '{k}' missing (not a tmpc telemetry.csv)")
+    return cols
+
+
+def absolute(c, name):
+    return [r + e for r, e in zip(c["r_" + name], c["e_" + name])]
+
+
+def mark_disturbances(ax, t_end):
+    for td in DISTURBANCE_TIMES:
+        if td < t_end:
+            ax.axvline(td, color="0.7", lw=0.8, ls="--")
+
+
+def series(c, names, ylabel, title, out, absolute_values=False):
+    fig, axes = plt.subplots(len(names), 1, sharex=True, figsize=(8, 2.2 * len(names)))
+    axes = axes if len(names) > 1 else [axes]
+    for ax, (key, label) in zip(axes, names):
+        y = absolute(c, key) if absolute_values else c[key]
+        ax.plot(c["t"], y, lw=0.9)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        mark_disturbances(ax, c["t"][-1])
+    axes[-1].set_xlabel("t [s]")
+    axes[0].set_title(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def plot_run(d):
+    c = read(os.path.join(d, "telemetry.csv"))
+    out = os.path.join(d, "plots")
+    os.makedirs(out, exist_ok=True)
+    fig = plt.figure(figsize=(7, 6))
+    ax = fig.add_subplot(projection="3d")
+    ax.plot(c["r_x"], c["r_y"], c["r_z"], "k--", lw=0.8, label="reference")
+    ax.plot(absolute(c, "x"), absolute(c, "y"), absolute(c, "z"), lw=1.0, label="load")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "path_3d.png"), dpi=120)
+    plt.close(fig)
+    series(c, [("e_x", "x err [m]"), ("e_y", "y err [m]"), ("e_z", "z err [m]")], "m", "position errors",
+           os.path.join(out, "position_errors.png"))
+    series(c, [("phi", "phi [rad]"), ("theta", "theta [rad]"), ("psi", "psi [rad]")], "rad", "load attitude",
+           os.path.join(out, "attitude.png"), absolute_values=True)
+    series(c, [("gamma_1", "gamma_1 [rad]"), ("gamma_2", "gamma_2 [rad]")], "rad", "swing angles",
+           os.path.join(out, "swing.png"), absolute_values=True)
+    series(c, [("alpha_r", "alpha_r [rad]"), ("alpha_l", "alpha_l [rad]")], "rad", "tilt angles",
+           os.path.join(out, "tilt.png"), absolute_values=True)
+    series(c, [("u_f_r", "f_r [N]"), ("u_f_l", "f_l [N]"), ("u_tau_r", "tau_r [N m]"), ("u_tau_l", "tau_l [N m]")],
+           "", "thrusts and servo torques", os.path.join(out, "inputs.png"))
+    return c
+
+
+def runs_of(d):
+    if os.path.exists(os.path.join(d, "telemetry.csv")):
+        return [d]
+    runs = sorted(os.path.join(d, r) for r in os.listdir(d) if r.startswith("run_"))
+    if not runs:
+        raise SystemExit(f"{d}: no telemetry.csv and no run_K/ folders")
+    return runs
+
+
+def main(argv):
+    if len(argv) < 2:
+        raise SystemExit(__doc__)
+    solve, labels = [], []
+    for d in argv[1:]:
+        times = []
+        for r in runs_of(d):
+            times += plot_run(r)["solve_us"]
+        solve.append(times)
+        labels.append(os.path.basename(os.path.normpath(d)))
+    fig, ax = plt.subplots(figsize=(1.8 + 1.6 * len(solve), 4))
+    ax.violinplot(solve, showmedians=True)
+    ax.set_xticks(range(1, len(labels) + 1), labels)
+    ax.set_yscale("log")
+    ax.set_ylabel("solve time [us]")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    first = os.path.join(argv[1], "plots")
+    os.makedirs(first, exist_ok=True)
+    fig.savefig(os.path.join(first, "solve_times_violin.png"), dpi=120)
+    plt.close(fig)
+    print(f"plots written under {', '.join(os.path.join(d, 'plots') for d in argv[1:])} (violin: {first})")
+
+
+if __name__ == "__main__":
+    main(sys.argv)
