@@ -20,25 +20,41 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
 
 void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   x_bar_ = a_.N_x.cwiseProduct(x_tilde);
-  solver_->reset();
+  if (solver_) solver_->reset();
 }
 
 const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Eigen::Vector4d& u_r,
                                         bool optimizer_in_time) {
+  const Eigen::VectorXd& xb = prepare(x_tilde);
+  const SolveResult* r = solver_ ? &solver_->solve(xb) : nullptr;
+  if (r != nullptr) {
+    out_.status = r->status;
+    out_.iterations = r->iterations;
+    out_.solve_us = r->solve_us;
+  }
+  return finish(u_r, optimizer_in_time ? r : nullptr);
+}
+
+const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde) {
   x_n_ = a_.N_x.cwiseProduct(x_tilde);
   out_.in_state_box = a_.X.contains(x_n_);
   if (opt_.reinitialize_nominal && a_.x_bar.contains(x_n_)) x_bar_ = x_n_;
   e_ = x_n_ - x_bar_;
   out_.in_tube = ((e_ - a_.Z.c).cwiseAbs().array() <= z_half_.array() + 1e-12).all();
-  const SolveResult& r = solver_->solve(x_bar_);
-  out_.status = r.status;
-  out_.iterations = r.iterations;
-  out_.solve_us = r.solve_us;
   out_.x_bar = x_bar_;
+  return x_bar_;
+}
+
+const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const SolveResult* r) {
+  if (r != nullptr) {
+    out_.status = r->status;
+    out_.iterations = r->iterations;
+    out_.solve_us = r->solve_us;
+  }
   Eigen::Vector4d u_n;
-  const bool usable = optimizer_in_time && r.status == SolveStatus::Converged && r.z.allFinite();
+  const bool usable = r != nullptr && r->status == SolveStatus::Converged && r->z.allFinite();
   if (usable) {
-    const Eigen::Vector4d ub = r.u0();
+    const Eigen::Vector4d ub = r->u0();
     u_n = ub + a_.K * e_;
     out_.u_bar = ub.cwiseQuotient(a_.N_u);
     next_.noalias() = a_.A * x_bar_ + a_.B * ub;  // nominal model (Mayne)

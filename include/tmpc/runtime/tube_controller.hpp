@@ -37,11 +37,19 @@ struct ControlStep {
 
 class TubeController {
  public:
+  /// `solver` may be null when the optimizer runs elsewhere (AsyncOptimizer): then use
+  /// prepare() and finish() instead of step().
   TubeController(const ControllerArtifact& a, std::unique_ptr<QpSolver> solver, TubeControllerOptions opt = {});
 
   /// One period: x_tilde (physical, 24 error states), u_r the feedforward, and whether
   /// the optimizer's answer arrived in time (false: the fallback is applied).
+  /// Equals prepare(), a solve from the returned nominal state, finish().
   const ControlStep& step(const Eigen::VectorXd& x_tilde, const Eigen::Vector4d& u_r, bool optimizer_in_time = true);
+  /// First half of a period: the nominal state (normalized) the optimizer solves from.
+  const Eigen::VectorXd& prepare(const Eigen::VectorXd& x_tilde);
+  /// Second half: the law (5.9) with the optimizer's result, or the LQR fallback when
+  /// `r` is null (late, busy) or not converged. Call prepare() first in the same period.
+  const ControlStep& finish(const Eigen::Vector4d& u_r, const SolveResult* r);
   /// Start the nominal state at a (physical) error state, e.g. at mission start.
   void reset(const Eigen::VectorXd& x_tilde);
 
