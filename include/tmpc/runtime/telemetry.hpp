@@ -1,0 +1,90 @@
+// Telemetry of the real-time loop: one fixed-size record a period goes through a
+// single-producer single-consumer lock-free ring to a writer thread that appends CSV
+// lines. The real-time side never blocks, locks or allocates; if the ring is ever full
+// the record is counted as dropped (and reported), never silently lost.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace tmpc {
+
+struct TelemetryRecord {
+  std::uint64_t period = 0;
+  double t = 0.0;              ///< s since the loop started
+  double x[24] = {};           ///< error state x_tilde (physical)
+  double ref[10] = {};         ///< reference q_r
+  double x_bar[24] = {};       ///< nominal state (normalized)
+  double u_bar[4] = {};        ///< u_bar(0), physical error units
+  double u[4] = {};            ///< applied input (physical)
+  std::int32_t status = 0;     ///< SolveStatus
+  std::int32_t iterations = 0;
+  double solve_us = 0.0;
+  double wake_latency_us = 0.0;  ///< actual minus planned wake-up
+  double period_us = 0.0;        ///< since the previous wake-up (jitter = period_us - T)
+  std::uint8_t fallback = 0, clipped = 0, in_tube = 1, safe_command = 0;
+};
+
+/// Lock-free ring for one producer and one consumer; capacity rounded up to a power of 2.
+template <class T>
+class SpscRing {
+ public:
+  explicit SpscRing(std::size_t capacity) {
+    std::size_t c = 2;
+    while (c < capacity) c <<= 1;
+    buf_.resize(c);
+    mask_ = c - 1;
+  }
+  bool push(const T& v) {
+    const std::size_t h = head_.load(std::memory_order_relaxed);
+    if (h - tail_.load(std::memory_order_acquire) > mask_) return false;  // full
+    buf_[h & mask_] = v;
+    head_.store(h + 1, std::memory_order_release);
+    return true;
+  }
+  bool pop(T& v) {
+    const std::size_t t = tail_.load(std::memory_order_relaxed);
+    if (t == head_.load(std::memory_order_acquire)) return false;  // empty
+    v = buf_[t & mask_];
+    tail_.store(t + 1, std::memory_order_release);
+    return true;
+  }
+  std::size_t capacity() const { return mask_ + 1; }
+
+ private:
+  std::vector<T> buf_;
+  std::size_t mask_ = 0;
+  alignas(64) std::atomic<std::size_t> head_{0};
+  alignas(64) std::atomic<std::size_t> tail_{0};
+};
+
+class TelemetryWriter {
+ public:
+  /// Opens `path` (CSV with a header) and starts the writer thread. Throws on open failure.
+  TelemetryWriter(const std::string& path, std::size_t capacity = 1 << 14);
+  ~TelemetryWriter();  ///< drains the ring, flushes, closes
+  TelemetryWriter(const TelemetryWriter&) = delete;
+  TelemetryWriter& operator=(const TelemetryWriter&) = delete;
+  /// Real-time side: never blocks. False (and counted) when the ring is full.
+  bool push(const TelemetryRecord& r);
+  std::uint64_t pushed() const { return pushed_.load(std::memory_order_relaxed); }
+  std::uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
+  std::uint64_t written() const { return written_.load(std::memory_order_acquire); }
+  /// Writer-side pause (tests: a stalled disk).
+  void pause_writer(bool p) { paused_.store(p, std::memory_order_release); }
+
+ private:
+  void run();
+  void write(const TelemetryRecord& r);
+  std::FILE* f_ = nullptr;
+  SpscRing<TelemetryRecord> ring_;
+  std::atomic<std::uint64_t> pushed_{0}, dropped_{0}, written_{0};
+  std::atomic<bool> stop_{false}, paused_{false};
+  std::thread thread_;
+};
+
+}  // namespace tmpc
