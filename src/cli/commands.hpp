@@ -24,6 +24,7 @@ void register_simulate(CLI::App& app);
 void register_devices(CLI::App& app);
 void register_explicit(CLI::App& app);
 void register_compare(CLI::App& app);
+void register_realtime(CLI::App& app);
 
 }  // namespace tmpc::cli
 

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   tmpc::cli::register_devices(app);
   tmpc::cli::register_explicit(app);
   tmpc::cli::register_compare(app);
+  tmpc::cli::register_realtime(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -9,6 +9,7 @@
 
 #include "tmpc/explicit/explicit_solver.hpp"
 #include "tmpc/model/reference.hpp"
+#include "tmpc/runtime/tracking_error.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
 #include "tmpc/sim/plant.hpp"
 
@@ -36,9 +37,8 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
   State20 x0;
   x0 << r0.q, r0.qd;  // start on the reference (E8)
   plant->reset(x0, 0.0);
-  Eigen::VectorXd xt = Eigen::VectorXd::Zero(24);
-  ctrl.reset(xt);
-  Eigen::Vector4d integral = Eigen::Vector4d::Zero();
+  TrackingError err;
+  ctrl.reset(err.value());
   Eigen::Vector4d u_prev = Eigen::Vector4d::Zero();
   std::vector<double> solve;
   solve.reserve(static_cast<std::size_t>(K));
@@ -60,10 +60,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     const double t = static_cast<double>(k) * T;
     const ReferencePoint r = traj.at(t);
     const State20& x = plant->state();
-    xt.head<10>() = x.head<10>() - r.q;
-    xt(kPsi) = std::remainder(xt(kPsi), 2.0 * M_PI);
-    xt.segment<10>(10) = x.tail<10>() - r.qd;
-    xt.tail<4>() = integral;
+    const Eigen::VectorXd& xt = err.update(x, r);
     if (!xt.allFinite() || (a.N_x.cwiseProduct(xt).cwiseAbs().array() > box_limit).any()) {
       m.diverged = true;
       break;
@@ -71,8 +68,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     const Eigen::Vector4d ur = feedforward(model, r);
     const ControlStep& s = ctrl.step(xt, ur);
     plant->advance(s.u, T);
-    // Integrals of the x, y, z, psi errors (5.7), rectangle rule.
-    integral += T * Eigen::Vector4d(xt(kX), xt(kY), xt(kZ), xt(kPsi));
+    err.integrate(T);
     ++m.periods;
     for (int i = 0; i < 10; ++i) sq[static_cast<std::size_t>(i)] += xt(i) * xt(i);
     for (int i = 0; i < 3; ++i) m.max_abs_error[static_cast<std::size_t>(i)] = std::max(m.max_abs_error[static_cast<std::size_t>(i)], std::abs(xt(i)));

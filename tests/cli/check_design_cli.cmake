@@ -45,6 +45,18 @@ execute_process(COMMAND ${TMPC} compare ${dir}/mc_admm/metrics.json ${dir}/r.jso
 if(rc EQUAL 0 OR NOT err MATCHES "not a tmpc metrics.json")
   message(FATAL_ERROR "compare accepted a design report: ${err}")
 endif()
+# Plant and controller in real time over a pseudo-terminal pair.
+execute_process(COMMAND ${TMPC} hil --config ${dir}/quick.yaml --controller ${dir}/c.tmpc --duration 2 --out ${dir}/hil
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${dir}/hil/metrics.json OR NOT out MATCHES "records, 0 dropped"
+   OR NOT out MATCHES "0 rejected")
+  message(FATAL_ERROR "hil failed: ${out}${err}")
+endif()
+execute_process(COMMAND ${TMPC} controller --controller ${dir}/c.tmpc --port /dev/null --duration 1
+                RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(rc EQUAL 0 OR NOT err MATCHES "not a terminal")
+  message(FATAL_ERROR "a port that is not a terminal was accepted: ${err}")
+endif()
 # Mission plots (thesis Figures 6.11-6.21) of a single run and of a campaign.
 if(PYTHON)
   execute_process(COMMAND ${PYTHON} ${SRC}/scripts/plot_mission.py ${dir}/sim ${dir}/mc_admm

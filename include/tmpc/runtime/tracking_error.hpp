@@ -1,0 +1,27 @@
+// The error state of the tube controller, thesis (5.5)-(5.7): x_tilde = (q - q_r,
+// q' - q_r', integrals of the x, y, z, psi errors), psi wrapped to (-pi, pi].
+#pragma once
+
+#include <Eigen/Core>
+
+#include "tmpc/model/dynamics.hpp"
+#include "tmpc/model/reference.hpp"
+
+namespace tmpc {
+
+class TrackingError {
+ public:
+  TrackingError() : xt_(Eigen::VectorXd::Zero(24)) {}
+  /// x_tilde at the measured state x (q, q') and the reference point r; no allocation.
+  const Eigen::VectorXd& update(const State20& x, const ReferencePoint& r);
+  /// After the period: integrate the x, y, z, psi errors over dt (rectangle rule, 5.7).
+  void integrate(double dt);
+  void reset() { integral_.setZero(); xt_.setZero(); }
+  const Eigen::VectorXd& value() const { return xt_; }
+
+ private:
+  Eigen::VectorXd xt_;
+  Eigen::Vector4d integral_ = Eigen::Vector4d::Zero();
+};
+
+}  // namespace tmpc

@@ -1,0 +1,194 @@
+// The real-time processes:
+//   tmpc controller --controller FILE.tmpc --port DEV [--baud] [--solver] [--rt-priority] [--cpu]
+//                   [--duration] [--telemetry FILE]      the on-board program
+//   tmpc plant --config FILE --port DEV [--baud] [--duration] [--no-disturbance] [--run K]
+//                                                         the nonlinear plant over serial
+//   tmpc hil --config FILE --controller FILE.tmpc [--solver] [--duration] [--out DIR]
+//                                                         both, over a pseudo-terminal pair
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "tmpc/explicit/explicit_law.hpp"
+#include "tmpc/model/config.hpp"
+#include "tmpc/runtime/controller_loop.hpp"
+#include "tmpc/sim/plant_loop.hpp"
+#include "tmpc/synthesis/artifact.hpp"
+
+namespace tmpc::cli {
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+void install_signals() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+
+const char* kSolvers = "admm | admm-thesis | cz | reference | explicit";
+
+void print_controller(const ControllerLoopStats& s) {
+  for (const std::string& m : s.realtime.not_set) std::fprintf(stderr, "tmpc controller: not set: %s\n", m.c_str());
+  std::printf("controller: %ld periods, %ld with a state; optimizer used %ld, late %ld, busy %ld -> fallback %ld; "
+              "safe command %ld; clipped %ld\n",
+              s.periods, s.states, s.optimizer_used, s.late, s.busy, s.fallback_periods, s.safe_periods,
+              s.clipped_periods);
+  std::printf("  wake-up latency p99 %.1f us, max %.1f us; period jitter max %.1f us; solve p50 %.1f us, max %.1f us\n",
+              s.wake_latency_p99_us, s.wake_latency_max_us, s.period_jitter_max_us, s.solve_p50_us, s.solve_max_us);
+  std::printf("  link: %ld states accepted, %ld rejected, %ld lost (sequence gaps), %ld send failures; telemetry %llu "
+              "records, %llu dropped\n",
+              s.link.accepted, s.link.rejected(), s.link.sequence_gaps, s.send_failures, s.telemetry_records,
+              s.telemetry_dropped);
+}
+
+void print_plant(const PlantLoopStats& s) {
+  std::printf("plant: %ld periods, %ld without a control; RMSE x %.4f m, y %.4f m, z %.4f m; max position error %.3f m%s\n",
+              s.periods, s.periods_without_control, s.rmse[0], s.rmse[1], s.rmse[2], s.max_position_error,
+              s.diverged ? ", DIVERGED" : "");
+  std::printf("  control frames: %ld accepted (%ld fallback, %ld safe), %ld rejected\n", s.link.accepted,
+              s.fallback_frames, s.safe_frames, s.link.rejected());
+}
+
+struct RtCli {
+  std::string controller, config = "config/tiltrotor.yaml", port, solver = "admm", explicit_law, telemetry, out = "out/hil",
+              plant = "el";
+  int baud = 921600, priority = 0, cpu = -1, run = -1;
+  double duration = 0.0;
+  bool no_disturbance = false;
+};
+
+ControllerLoopOptions controller_options(const RtCli& o) {
+  ControllerLoopOptions c;
+  c.solver = o.solver;
+  c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
+  c.duration_s = o.duration;
+  c.realtime.priority = o.priority;
+  c.realtime.cpu = o.cpu;
+  c.telemetry_csv = o.telemetry;
+  return c;
+}
+
+void run_controller(const RtCli& o) {
+  const ControllerArtifact a = load_artifact(o.controller);
+  io::SerialOpenReport rep;
+  auto port = io::open_serial(o.port, o.baud, &rep);
+  if (!rep.note.empty()) std::fprintf(stderr, "tmpc controller: %s: %s\n", o.port.c_str(), rep.note.c_str());
+  install_signals();
+  print_controller(run_controller_loop(a, *port, controller_options(o), g_stop));
+}
+
+void run_plant(const RtCli& o) {
+  const Config cfg = load_config(o.config);
+  io::SerialOpenReport rep;
+  auto port = io::open_serial(o.port, o.baud, &rep);
+  install_signals();
+  PlantLoopOptions p;
+  p.plant = o.plant;
+  p.disturbance = !o.no_disturbance;
+  p.run = o.run;
+  p.duration_s = o.duration > 0.0 ? o.duration : cfg.simulation.duration;
+  print_plant(run_plant_loop(cfg, *port, p, g_stop));
+}
+
+void run_hil(const RtCli& o) {
+  const ControllerArtifact a = load_artifact(o.controller);
+  const Config cfg = load_config(o.config);
+  io::PtyPair pty = io::open_pty_pair();
+  auto port = io::open_serial(pty.slave_path, o.baud);
+  std::filesystem::create_directories(o.out);
+  RtCli co = o;
+  if (co.telemetry.empty()) co.telemetry = o.out + "/telemetry.csv";
+  const double duration = o.duration > 0.0 ? o.duration : cfg.simulation.duration;
+  co.duration = duration + 0.1;  // the controller outlives the plant by a few periods
+  install_signals();
+  PlantLoopStats ps;
+  std::atomic<bool> plant_done{false};
+  std::thread plant([&] {
+    PlantLoopOptions p;
+    p.plant = o.plant;
+    p.disturbance = !o.no_disturbance;
+    p.run = o.run;
+    p.duration_s = duration;
+    ps = run_plant_loop(cfg, *pty.master, p, g_stop);
+    plant_done.store(true);
+  });
+  const ControllerLoopStats cs = run_controller_loop(a, *port, controller_options(co), g_stop);
+  plant.join();
+  std::printf("hil over %s, %.1f s, solver %s%s\n", pty.slave_path.c_str(), duration, o.solver.c_str(),
+              o.no_disturbance ? ", no disturbance" : ", 1 N steps at 20/40/60 s");
+  print_plant(ps);
+  print_controller(cs);
+  nlohmann::json j;
+  const char* names[] = {"x", "y", "z", "phi", "theta", "psi", "gamma_1", "gamma_2", "alpha_r", "alpha_l"};
+  for (int i = 0; i < 10; ++i) j["rmse"][names[i]] = ps.rmse[static_cast<std::size_t>(i)];
+  j["periods"] = cs.periods;
+  j["deadline_misses"] = cs.late;
+  j["busy_periods"] = cs.busy;
+  j["fallback_periods"] = cs.fallback_periods;
+  j["safe_periods"] = cs.safe_periods;
+  j["clipped_periods"] = cs.clipped_periods;
+  j["solve_us"] = {{"p50", cs.solve_p50_us}, {"max", cs.solve_max_us}};
+  j["wake_latency_us"] = {{"p99", cs.wake_latency_p99_us}, {"max", cs.wake_latency_max_us}};
+  j["link"] = {{"states_accepted", cs.link.accepted}, {"states_rejected", cs.link.rejected()},
+               {"controls_accepted", ps.link.accepted}, {"controls_rejected", ps.link.rejected()}};
+  j["telemetry"] = {{"records", cs.telemetry_records}, {"dropped", cs.telemetry_dropped}};
+  j["diverged"] = ps.diverged;
+  std::ofstream(o.out + "/metrics.json") << j.dump(2) << "\n";
+  std::printf("  %s/metrics.json, %s\n", o.out.c_str(), co.telemetry.c_str());
+}
+
+void common(CLI::App* s, RtCli& o) {
+  s->add_option("--baud", o.baud, "serial baud rate (default 921600)");
+  s->add_option("--duration", o.duration, "seconds (default: until SIGINT; plant and hil: the mission)")
+      ->check(CLI::PositiveNumber);
+}
+
+}  // namespace
+
+void register_realtime(CLI::App& app) {
+  auto c = std::make_shared<RtCli>();
+  CLI::App* sc = app.add_subcommand("controller", "The on-board controller over a serial port (real time)");
+  sc->add_option("--controller", c->controller, "controller artifact")->required()->check(CLI::ExistingFile);
+  sc->add_option("--port", c->port, "serial device")->required();
+  sc->add_option("--solver", c->solver, kSolvers)->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sc->add_option("--explicit", c->explicit_law, "explicit law (default: CONTROLLER + 'x')");
+  sc->add_option("--rt-priority", c->priority, "SCHED_FIFO priority 1..99 (0: none)")->check(CLI::Range(0, 99));
+  sc->add_option("--cpu", c->cpu, "pin the loop to this CPU");
+  sc->add_option("--telemetry", c->telemetry, "telemetry CSV to write");
+  common(sc, *c);
+  sc->callback([c]() { run_controller(*c); });
+
+  auto p = std::make_shared<RtCli>();
+  CLI::App* sp = app.add_subcommand("plant", "The nonlinear plant in real time over a serial port");
+  sp->add_option("--config", p->config, "configuration (YAML)")->check(CLI::ExistingFile);
+  sp->add_option("--port", p->port, "serial device")->required();
+  sp->add_option("--plant", p->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
+  sp->add_flag("--no-disturbance", p->no_disturbance, "without the 1 N steps");
+  sp->add_option("--run", p->run, "Monte Carlo run index (masses and inertias perturbed)");
+  common(sp, *p);
+  sp->callback([p]() { run_plant(*p); });
+
+  auto h = std::make_shared<RtCli>();
+  CLI::App* sh = app.add_subcommand("hil", "Plant and controller in real time over a pseudo-terminal pair");
+  sh->add_option("--config", h->config, "configuration of the plant (YAML)")->check(CLI::ExistingFile);
+  sh->add_option("--controller", h->controller, "controller artifact")->required()->check(CLI::ExistingFile);
+  sh->add_option("--solver", h->solver, kSolvers)->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sh->add_option("--explicit", h->explicit_law, "explicit law (default: CONTROLLER + 'x')");
+  sh->add_option("--plant", h->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
+  sh->add_flag("--no-disturbance", h->no_disturbance, "without the 1 N steps");
+  sh->add_option("--run", h->run, "Monte Carlo run index");
+  sh->add_option("--rt-priority", h->priority, "SCHED_FIFO priority of the controller loop")->check(CLI::Range(0, 99));
+  sh->add_option("--out", h->out, "output directory (metrics.json, telemetry.csv)");
+  common(sh, *h);
+  sh->callback([h]() { run_hil(*h); });
+}
+
+}  // namespace tmpc::cli

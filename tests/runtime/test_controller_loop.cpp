@@ -1,0 +1,91 @@
+// The on-board loop over a pseudo-terminal, the test playing the plant: valid states
+// get the tube law; a silent link triggers the safe command, flagged in every control
+// frame until states return; garbage frames are counted, never fatal; every period
+// leaves a telemetry record.
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "../synthesis/design_fixture.hpp"
+#include "tmpc/model/reference.hpp"
+#include "tmpc/runtime/controller_loop.hpp"
+
+namespace tmpc {
+namespace {
+
+TEST(ControllerLoop, SilentLinkTriggersTheSafeCommandUntilStatesReturn) {
+  const ControllerArtifact a = make_artifact(test::quick_design());
+  const Config cfg = test::quick_config();
+  const TiltrotorModel model(cfg.vehicle);
+  const HelixTrajectory traj(cfg.reference, model);
+  io::PtyPair pty = io::open_pty_pair();
+  auto port = io::open_serial(pty.slave_path);
+  ControllerLoopOptions o;
+  o.silent_periods = 5;
+  o.telemetry_csv = ::testing::TempDir() + "loop_telemetry.csv";
+  std::atomic<bool> stop{false};
+  ControllerLoopStats st;
+  std::thread loop([&] { st = run_controller_loop(a, *port, o, stop); });
+
+  // The plant side: 30 periods of states, 25 silent, 30 of states; record the flags.
+  io::Decoder controls(io::FrameType::Control);
+  std::vector<std::uint8_t> bytes;
+  std::uint8_t buf[512];
+  int safe_while_talking = 0, safe_while_silent = 0, normal_while_silent = 0, got = 0;
+  std::uint32_t seq = 0;
+  const auto period = std::chrono::milliseconds(12);
+  auto next = std::chrono::steady_clock::now();
+  for (int k = 0; k < 85; ++k) {
+    const bool silent = k >= 30 && k < 55;
+    if (!silent) {
+      const double t = 0.012 * k;
+      const ReferencePoint r = traj.at(t);
+      io::StateFrame s;
+      s.seq = ++seq;
+      s.time = t;
+      for (int i = 0; i < 10; ++i) {
+        s.x[static_cast<std::size_t>(i)] = r.q(i);
+        s.x[static_cast<std::size_t>(10 + i)] = r.qd(i);
+      }
+      io::encode(s, bytes);
+      ASSERT_TRUE(pty.master->write_all(bytes.data(), bytes.size()));
+      if (k == 70) {  // garbage on the line
+        const std::uint8_t junk[] = {9, 9, 9, 0};
+        pty.master->write_all(junk, sizeof(junk));
+      }
+    }
+    next += period;
+    std::this_thread::sleep_until(next);
+    for (long n; (n = pty.master->read_some(buf, sizeof(buf))) > 0;) {
+      for (long i = 0; i < n; ++i) {
+        if (!controls.push(buf[i])) continue;
+        ++got;
+        const bool safe = controls.control().flags & io::ControlFrame::kSafe;
+        if (k >= 40 && k < 55) {  // well after the link went silent
+          safe_while_silent += safe;
+          normal_while_silent += !safe;
+        }
+        if ((k >= 10 && k < 30) || k >= 65) safe_while_talking += safe;
+      }
+    }
+  }
+  stop.store(true);
+  loop.join();
+  EXPECT_GT(got, 60);
+  EXPECT_GT(safe_while_silent, 10);
+  EXPECT_EQ(normal_while_silent, 0);
+  EXPECT_EQ(safe_while_talking, 0);
+  EXPECT_GE(st.link.rejected(), 1);
+  EXPECT_GT(st.safe_periods, 10);
+  EXPECT_EQ(st.telemetry_records, static_cast<unsigned long long>(st.periods));
+  EXPECT_EQ(st.telemetry_dropped, 0u);
+  std::ifstream in(o.telemetry_csv);
+  long lines = 0;
+  for (std::string l; std::getline(in, l);) ++lines;
+  EXPECT_EQ(lines, st.periods + 1);
+}
+
+}  // namespace
+}  // namespace tmpc
