@@ -94,9 +94,19 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       const timespec deadline = add_ns(clock.next_wakeup(), static_cast<long>(o.deadline_fraction * T * 1e9));
       const SolveResult* res = nullptr;
       if (ticket != 0) {
-        while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
+        // Poll until the result is there or the deadline passes; send at once.
+        timespec now{};
+        for (;;) {
+          res = optimizer.poll(ticket);
+          clock_gettime(CLOCK_MONOTONIC, &now);
+          if (res != nullptr || diff_us(now, deadline) >= 0.0) break;
+          const timespec nap = add_ns(now, 20000);  // 20 us
+          clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, nap.tv_sec > deadline.tv_sec ||
+                                                                   (nap.tv_sec == deadline.tv_sec && nap.tv_nsec > deadline.tv_nsec)
+                                                               ? &deadline
+                                                               : &nap,
+                          nullptr);
         }
-        res = optimizer.poll(ticket);
         if (res == nullptr) {
           optimizer.abandon(ticket);
           ++st.late;

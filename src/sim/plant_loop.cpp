@@ -28,8 +28,12 @@ PlantLoopStats run_plant_loop(const Config& cfg, io::Transport& link, const Plan
   std::uint8_t buf[1024];
   std::array<double, 10> sq{};
   PlantLoopStats st;
-  PeriodicClock clock(T);
+  // Paced by the controller: after each state frame the plant waits for the control
+  // (at most 1.5 periods of wall time), then integrates one period with it, so the
+  // loop runs in real time at the controller's clock with the compute delay inside
+  // the period; a silent controller leaves the last input held (as on a vehicle).
   std::uint32_t seq = 0;
+  const long wait_ns = static_cast<long>(1.5 * T * 1e9);
   while (!stop.load(std::memory_order_relaxed) && (periods < 0 || st.periods < periods)) {
     io::StateFrame sf;
     sf.seq = ++seq;
@@ -37,11 +41,12 @@ PlantLoopStats run_plant_loop(const Config& cfg, io::Transport& link, const Plan
     for (int i = 0; i < 20; ++i) sf.x[static_cast<std::size_t>(i)] = plant->state()(i);
     io::encode(sf, out);
     link.write_all(out.data(), out.size(), 2);
-    clock.wait();
+    timespec now{};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    const timespec give_up = add_ns(now, wait_ns);
     bool got = false;
-    for (;;) {
+    while (!got && !stop.load(std::memory_order_relaxed)) {
       const long n = link.read_some(buf, sizeof(buf));
-      if (n <= 0) break;
       for (long i = 0; i < n; ++i) {
         if (decoder.push(buf[i])) {
           got = true;
@@ -51,6 +56,11 @@ PlantLoopStats run_plant_loop(const Config& cfg, io::Transport& link, const Plan
           st.fallback_frames += (c.flags & io::ControlFrame::kFallback) != 0;
         }
       }
+      if (got || n < 0) break;
+      clock_gettime(CLOCK_MONOTONIC, &now);
+      if (diff_us(now, give_up) >= 0.0) break;
+      const timespec nap = add_ns(now, 50000);  // 50 us
+      clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &nap, nullptr);
     }
     st.controls += got;
     st.periods_without_control += !got;
