@@ -59,8 +59,8 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_, &xp_}) v->setZero(n);
   yp_.setZero(m);
   polish_ = ActiveSetPolish(static_cast<int>(n), static_cast<int>(m));
-  tried_rows_.reserve(static_cast<std::size_t>(n));
-  tried_signs_.reserve(static_cast<std::size_t>(n));
+  for (std::vector<int>* v : {&tried_rows_, &seen_rows_}) v->reserve(static_cast<std::size_t>(n));
+  for (std::vector<double>* v : {&tried_signs_, &seen_signs_}) v->reserve(static_cast<std::size_t>(n));
   for (Eigen::VectorXd* v : {&z_, &y_, &zh_, &yh_, &zprev_, &yprev_, &zt_, &yhalf_, &tmp_m_, &Ax_, &los_, &his_}) v->setZero(m);
 }
 
@@ -83,7 +83,13 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
     const bool low = !up && z_(i) - lo(i) < -y_(i) * rho_inv_(i);  // z - l < -y / rho
     if ((up || low) && !polish_.add(static_cast<int>(i), up)) return false;
   }
-  if (polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;  // already failed
+  // Only once the guess has settled (the same at two checks in a row), and not a
+  // guess that already failed: a failed attempt costs a KKT solve.
+  const bool settled = polish_.rows() == seen_rows_ && polish_.signs() == seen_signs_;
+  seen_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
+  seen_signs_.assign(polish_.signs().begin(), polish_.signs().end());
+  if (!settled) return false;
+  if (polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;
   if (!polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_)) {
     tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
     tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
@@ -141,6 +147,8 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   NesterovRestart nesterov;
   tried_rows_.clear();
   tried_signs_.clear();
+  seen_rows_.clear();
+  seen_signs_.clear();
   res.restarts = 0;
   res.status = SolveStatus::MaxIterations;
   const double f_norm = inf_norm(f_in);

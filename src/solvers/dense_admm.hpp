@@ -66,6 +66,8 @@ class DenseAdmm {
   ActiveSetPolish polish_;            // the active-set guess
   std::vector<int> tried_rows_;       // the last guess that failed (capacity reserved)
   std::vector<double> tried_signs_;
+  std::vector<int> seen_rows_;        // the guess at the previous check
+  std::vector<double> seen_signs_;
   Eigen::VectorXd xp_, yp_;
 };
 
