@@ -17,6 +17,7 @@
 #include "commands.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
+#include "tmpc/model/kinematic_tree.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
 #include "tmpc/sim/plant_loop.hpp"
 #include "tmpc/synthesis/artifact.hpp"
@@ -127,8 +128,7 @@ void run_hil(const RtCli& o) {
   print_plant(ps);
   print_controller(cs);
   nlohmann::json j;
-  const char* names[] = {"x", "y", "z", "phi", "theta", "psi", "gamma_1", "gamma_2", "alpha_r", "alpha_l"};
-  for (int i = 0; i < 10; ++i) j["rmse"][names[i]] = ps.rmse[static_cast<std::size_t>(i)];
+  for (int i = 0; i < 10; ++i) j["rmse"][kCoordNames[static_cast<std::size_t>(i)]] = ps.rmse[static_cast<std::size_t>(i)];
   j["periods"] = cs.periods;
   j["deadline_misses"] = cs.late;
   j["busy_periods"] = cs.busy;

@@ -85,6 +85,18 @@ MpQp MpQp::from_parametric(const ParametricQp& qp, const Box& domain) {
   return p;
 }
 
+ParametricQp MpQp::as_parametric() const {
+  ParametricQp q;
+  q.H = H;
+  q.F = F;
+  q.f0 = f;
+  q.A = G;
+  q.E = -S;
+  q.hi0 = w;
+  q.lo0 = Eigen::VectorXd::Constant(w.size(), -std::numeric_limits<double>::infinity());
+  return q;
+}
+
 bool mpqp_feasible(const MpQp& p, const Eigen::VectorXd& th) {
   if (!p.domain.contains(th, 1e-12)) return false;
   if (p.T.rows() > 0 && ((p.T * th - p.t).array() > 1e-9).any()) return false;
@@ -111,17 +123,9 @@ class Explorer {
  public:
   Explorer(const MpQp& p, const MpQpOptions& opt)
       : p_(p), opt_(opt), fac_(p), rng_(opt.seed), t0_(Clock::now()) {
-    ParametricQp q;
-    q.H = p.H;
-    q.F = p.F;
-    q.f0 = p.f;
-    q.A = p.G;
-    q.E = -p.S;
-    q.hi0 = p.w;
-    q.lo0 = Eigen::VectorXd::Constant(p.w.size(), -std::numeric_limits<double>::infinity());
     SolverOptions so;
     so.warm_start = false;
-    oracle_ = make_reference_solver(q, so);
+    oracle_ = make_reference_solver(p.as_parametric(), so);
     part_.domain = p.domain;
   }
 

@@ -26,13 +26,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
 const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Eigen::Vector4d& u_r,
                                         bool optimizer_in_time) {
   const Eigen::VectorXd& xb = prepare(x_tilde);
-  const SolveResult* r = solver_ ? &solver_->solve(xb) : nullptr;
-  if (r != nullptr) {
-    out_.status = r->status;
-    out_.iterations = r->iterations;
-    out_.solve_us = r->solve_us;
-  }
-  return finish(u_r, optimizer_in_time ? r : nullptr);
+  return finish(u_r, solver_ ? &solver_->solve(xb) : nullptr, optimizer_in_time);
 }
 
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde) {
@@ -45,14 +39,14 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde) {
   return x_bar_;
 }
 
-const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const SolveResult* r) {
+const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const SolveResult* r, bool in_time) {
   if (r != nullptr) {
     out_.status = r->status;
     out_.iterations = r->iterations;
     out_.solve_us = r->solve_us;
   }
   Eigen::Vector4d u_n;
-  const bool usable = r != nullptr && r->status == SolveStatus::Converged && r->z.allFinite();
+  const bool usable = in_time && r != nullptr && r->status == SolveStatus::Converged && r->z.allFinite();
   if (usable) {
     const Eigen::Vector4d ub = r->u0();
     u_n = ub + a_.K * e_;

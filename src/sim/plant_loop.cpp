@@ -7,6 +7,7 @@
 #include "tmpc/model/equilibrium.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/runtime/realtime.hpp"
+#include "tmpc/runtime/tracking_error.hpp"
 #include "tmpc/sim/plant.hpp"
 
 namespace tmpc {
@@ -27,6 +28,7 @@ PlantLoopStats run_plant_loop(const Config& cfg, io::Transport& link, const Plan
   std::vector<std::uint8_t> out;
   std::uint8_t buf[1024];
   std::array<double, 10> sq{};
+  TrackingError err;
   PlantLoopStats st;
   // Paced by the controller: after each state frame the plant waits for the control
   // (at most 1.5 periods of wall time), then integrates one period with it, so the
@@ -66,14 +68,10 @@ PlantLoopStats run_plant_loop(const Config& cfg, io::Transport& link, const Plan
     st.periods_without_control += !got;
     plant->advance(u, T);
     ++st.periods;
-    const ReferencePoint r = traj.at(plant->time());
     const State20& x = plant->state();
-    for (int i = 0; i < 10; ++i) {
-      double e = x(i) - r.q(i);
-      if (i == 5) e = std::remainder(e, 2.0 * M_PI);
-      sq[static_cast<std::size_t>(i)] += e * e;
-    }
-    st.max_position_error = std::max(st.max_position_error, (x.head<3>() - r.q.head<3>()).cwiseAbs().maxCoeff());
+    const Eigen::VectorXd& e = err.update(x, traj.at(plant->time()));  // the true tracking error
+    for (int i = 0; i < 10; ++i) sq[static_cast<std::size_t>(i)] += e(i) * e(i);
+    st.max_position_error = std::max(st.max_position_error, e.head<3>().cwiseAbs().maxCoeff());
     if (!x.allFinite() || st.max_position_error > 50.0) {
       st.diverged = true;
       break;

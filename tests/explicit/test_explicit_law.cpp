@@ -39,15 +39,7 @@ TEST(ExplicitLaw, CaseStudyPartitionIsCompleteAndMatchesTheReferenceAt100kPoints
   EXPECT_GT(l.regions(), 50);
   EXPECT_EQ(l.stats.unresolved_facets, 0);
   const MpQp mp = explicit_mpqp(artifact(), options());
-  ParametricQp q;
-  q.H = mp.H;
-  q.F = mp.F;
-  q.f0 = mp.f;
-  q.A = mp.G;
-  q.E = -mp.S;
-  q.hi0 = mp.w;
-  q.lo0 = Eigen::VectorXd::Constant(mp.w.size(), -std::numeric_limits<double>::infinity());
-  auto ref = make_reference_solver(q);
+  auto ref = make_reference_solver(mp.as_parametric());
   const RegionScan scan1(l.table, 1), scan2(l.table, 2);
   std::mt19937_64 rng(11);
   Eigen::VectorXd th(l.n), z(l.nz);

@@ -38,6 +38,9 @@ struct MpQp {
   /// From lo0 - E th <= A z <= hi0 - E th (infinite bounds dropped), rows normalized,
   /// duplicates merged. Throws std::invalid_argument on inconsistent sizes or H not > 0.
   static MpQp from_parametric(const ParametricQp& qp, const Box& domain);
+  /// The same QP as lo <= A z <= hi - E th with A = G, E = -S, no lower bounds (for
+  /// the QP solvers, e.g. the reference oracle).
+  ParametricQp as_parametric() const;
 };
 
 /// One critical region: th in {H th <= k} gives z(th) = Kz th + kz.

@@ -48,8 +48,9 @@ class TubeController {
   /// First half of a period: the nominal state (normalized) the optimizer solves from.
   const Eigen::VectorXd& prepare(const Eigen::VectorXd& x_tilde);
   /// Second half: the law (5.9) with the optimizer's result, or the LQR fallback when
-  /// `r` is null (late, busy) or not converged. Call prepare() first in the same period.
-  const ControlStep& finish(const Eigen::Vector4d& u_r, const SolveResult* r);
+  /// `r` is null (late, busy), not converged, or not `in_time` (its status is still
+  /// recorded). Call prepare() first in the same period.
+  const ControlStep& finish(const Eigen::Vector4d& u_r, const SolveResult* r, bool in_time = true);
   /// Start the nominal state at a (physical) error state, e.g. at mission start.
   void reset(const Eigen::VectorXd& x_tilde);
 
