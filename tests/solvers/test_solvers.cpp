@@ -5,32 +5,15 @@
 
 #include <gtest/gtest.h>
 
-#include "../synthesis/design_fixture.hpp"
+#include "case_study_qps.hpp"
 #include "tmpc/solvers/kkt.hpp"
 #include "tmpc/solvers/solver.hpp"
 
 namespace tmpc {
 namespace {
 
-const ControllerArtifact& artifact() {
-  static const ControllerArtifact a = make_artifact(test::quick_design());
-  return a;
-}
-
-/// Nominal states inside the tightened state set: 3 % of its half-width in every one
-/// of the 24 states at once (much larger simultaneous errors make the nominal QP
-/// infeasible: the thesis' problem has no terminal set guaranteeing feasibility).
-std::vector<Eigen::VectorXd> case_study_states(int count, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Eigen::VectorXd> xs;
-  for (int k = 0; k < count; ++k) {
-    Eigen::VectorXd x(24);
-    for (int i = 0; i < 24; ++i) x(i) = 0.03 * u(rng) * artifact().x_bar.hi(i);
-    xs.push_back(x);
-  }
-  return xs;
-}
+const ControllerArtifact& artifact() { return test::case_study_artifact(); }
+using test::case_study_states;
 
 double rel_stationarity(const CondensedQp& qp, const Eigen::VectorXd& z, const Eigen::VectorXd& y) {
   const double scale = std::max({(qp.H * z).cwiseAbs().maxCoeff(), qp.f.cwiseAbs().maxCoeff(),

@@ -1,0 +1,190 @@
+// The GPU's ADMM kernel code (tmpc/gpu/admm_kernel.hpp, float) run by teams of host
+// threads against its double-precision CPU twins ("admm" with fixed rho and no
+// polish; "admm-thesis"), and its solutions against the KKT conditions computed
+// here in double. These run everywhere; the same checks on a GPU are in
+// tests/cuda/test_cuda_admm.cpp.
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "../solvers/case_study_qps.hpp"
+#include "host_team.hpp"
+#include "tmpc/gpu/admm_kernel.hpp"
+#include "tmpc/solvers/gpu_problem.hpp"
+#include "tmpc/solvers/kkt.hpp"
+
+namespace tmpc {
+namespace {
+
+using test::case_study_artifact;
+using test::case_study_states;
+
+/// One slot's memory and a team solve of the kernel code in precision R.
+template <class R>
+class HostKernelSolver {
+ public:
+  HostKernelSolver(const gpu::BasicAdmmProblem<R>& p, const gpu::AdmmSettings& s, int team)
+      : p_(p), s_(s), team_(team), view_(gpu::view_of(p_, [](const std::vector<R>& v) { return v.data(); })) {
+    state_.assign(static_cast<std::size_t>(gpu::state_floats(p.nz, p.nc, p.N, p.n)), R(0));
+    ws_.assign(static_cast<std::size_t>(gpu::workspace_floats(p.nz, p.nc, p.N, p.n, team)), R(0));
+    z_.assign(static_cast<std::size_t>(p.nz), R(0));
+    y_.assign(static_cast<std::size_t>(p.nc), R(0));
+  }
+  void solve(const Eigen::VectorXd& x0) {
+    std::vector<R> x(static_cast<std::size_t>(x0.size()));
+    for (Eigen::Index i = 0; i < x0.size(); ++i) x[static_cast<std::size_t>(i)] = static_cast<R>(x0(i));
+    const gpu::SlotView<R> slot{state_.data(), &have_previous_, &outcome_, z_.data(), y_.data()};
+    test::run_team(team_, [&](test::HostTeam& t) {
+      if (s_.variant == gpu::kExact) {
+        gpu::admm_exact(t, view_, s_, x.data(), ws_.data(), slot);
+      } else {
+        gpu::admm_thesis(t, view_, s_, x.data(), ws_.data(), slot);
+      }
+    });
+  }
+  void reset() { have_previous_ = 0; }
+  const gpu::AdmmOutcome& outcome() const { return outcome_; }
+  Eigen::VectorXd z() const { return Eigen::Map<const Eigen::Matrix<R, -1, 1>>(z_.data(), p_.nz).template cast<double>(); }
+  Eigen::VectorXd y() const { return Eigen::Map<const Eigen::Matrix<R, -1, 1>>(y_.data(), p_.nc).template cast<double>(); }
+
+ private:
+  gpu::BasicAdmmProblem<R> p_;
+  gpu::AdmmSettings s_;
+  int team_;
+  gpu::ProblemView<R> view_;
+  std::vector<R> state_, ws_, z_, y_;
+  int have_previous_ = 0;
+  gpu::AdmmOutcome outcome_;
+};
+
+struct ParityStats {
+  int n = 0, status_mismatch = 0, iteration_outliers = 0;
+  double worst_u = 0.0, iters_cpu = 0.0, iters_gpu = 0.0, worst_prim = 0.0, worst_stat = 0.0;
+};
+
+gpu::BasicAdmmProblem<float> problem_of(const MpcQpData& d, const SolverOptions& o, float) { return make_gpu_problem(d, o); }
+gpu::BasicAdmmProblem<double> problem_of(const MpcQpData& d, const SolverOptions& o, double) {
+  return make_gpu_problem_fp64(d, o);
+}
+
+/// Kernel code in precision R with `team` threads against the CPU twin on `states`.
+template <class R>
+ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& states, bool warm) {
+  const ControllerArtifact& a = case_study_artifact();
+  const MpcQpData d = a.qp();
+  SolverOptions o = cpu_twin_options(SolverOptions{});
+  o.warm_start = warm;
+  auto cpu = make_solver(variant == gpu::kExact ? "admm" : "admm-thesis", d, o);
+  HostKernelSolver<R> k(problem_of(d, o, R(0)), make_gpu_settings(o, variant), team);
+  const Eigen::VectorXd u_range = d.u_bar.hi - d.u_bar.lo;
+  ParityStats st;
+  for (const Eigen::VectorXd& x0 : states) {
+    const SolveResult& c = cpu->solve(x0);
+    k.solve(x0);
+    const gpu::AdmmOutcome& g = k.outcome();
+    ++st.n;
+    if (g.status != static_cast<int>(c.status)) ++st.status_mismatch;
+    const Eigen::VectorXd zg = k.z();
+    st.worst_u = std::max(st.worst_u, ((zg.head(4) - c.z.head(4)).cwiseQuotient(u_range)).cwiseAbs().maxCoeff());
+    st.iters_cpu += c.iterations;
+    st.iters_gpu += g.iterations;
+    // Iteration counts are multiples of the check interval (exact variant): a single
+    // interval is the resolution of the comparison.
+    const int slack = std::max(static_cast<int>(std::ceil(0.1 * c.iterations)), variant == gpu::kExact ? o.check_every : 1);
+    if (std::abs(g.iterations - c.iterations) > slack) ++st.iteration_outliers;
+    if (variant == gpu::kExact) {
+      const CondensedQp qp = cpu->problem().instance(x0);
+      const KktResiduals r = kkt_residuals(qp, zg, k.y());
+      const double scale = std::max({(qp.H * zg).cwiseAbs().maxCoeff(), qp.f.cwiseAbs().maxCoeff(), 1.0});
+      st.worst_prim = std::max(st.worst_prim, r.primal);
+      st.worst_stat = std::max(st.worst_stat, r.stationarity / scale);
+    }
+  }
+  st.iters_cpu /= st.n;
+  st.iters_gpu /= st.n;
+  std::printf("%s variant %d team %d warm %d: %d QPs, status mismatches %d, worst |du|/range %.2e, mean iterations cpu %.1f kernel %.1f, outliers %d, worst primal %.2e, rel. stationarity %.2e\n",
+              sizeof(R) == 4 ? "float" : "double", variant, team, warm ? 1 : 0, st.n, st.status_mismatch, st.worst_u, st.iters_cpu, st.iters_gpu,
+              st.iteration_outliers, st.worst_prim, st.worst_stat);
+  return st;
+}
+
+void expect_parity(const ParityStats& st, bool iterations = true) {
+  EXPECT_EQ(st.status_mismatch, 0);
+  EXPECT_LE(st.worst_u, 1e-3);  // 1e-3 of the input range
+  if (!iterations) return;
+  EXPECT_NEAR(st.iters_gpu, st.iters_cpu, 0.1 * st.iters_cpu);
+  EXPECT_LE(st.iteration_outliers, st.n / 20);  // float rounding may move a few by more
+}
+
+TEST(GpuKernelOnHost, ExactVariantMatchesCpuTwinOnFiveHundredQps) {
+  const ParityStats st = parity<float>(gpu::kExact, 1, case_study_states(500, 3), false);
+  expect_parity(st);
+  // KKT of the float solutions, in double: consistent with epsilon = 1e-3.
+  EXPECT_LE(st.worst_prim, 5e-3);
+  EXPECT_LE(st.worst_stat, 5e-3);
+}
+
+TEST(GpuKernelOnHost, ThesisVariantMatchesItsCpuTwin) {
+  const auto xs = case_study_states(40, 4);
+  // In double the kernel code follows the CPU twin iterate for iterate.
+  expect_parity(parity<double>(gpu::kThesis, 1, xs, false));
+  // In float the same point comes out, but the literal algorithm's stopping test
+  // (||Gamma|| <= 1e-3 after ~2,000 sublinear, restarted iterations) is reached
+  // later: measured +34 % iterations on these QPs. Asserted as measured (at most
+  // +50 %), not hidden: the exact variant has no such sensitivity.
+  const ParityStats f = parity<float>(gpu::kThesis, 1, xs, false);
+  expect_parity(f, false);
+  EXPECT_GE(f.iters_gpu, 0.9 * f.iters_cpu);
+  EXPECT_LE(f.iters_gpu, 1.5 * f.iters_cpu);
+}
+
+TEST(GpuKernelOnHost, ParallelTeamComputesWhatOneThreadDoes) {
+  // Eight threads split every product and reduction as a thread block does.
+  const auto xs = case_study_states(6, 5);
+  expect_parity(parity<float>(gpu::kExact, 8, xs, false));
+  expect_parity(parity<float>(gpu::kExact, 3, xs, true));  // uneven split, warm start across solves
+  expect_parity(parity<double>(gpu::kThesis, 4, case_study_states(2, 6), false));
+}
+
+TEST(GpuKernelOnHost, WarmStartOnAClosedLoopLikeSequence) {
+  // States along a decaying trajectory: the shifted warm start of the kernel code
+  // against the CPU twin's.
+  std::vector<Eigen::VectorXd> xs;
+  Eigen::VectorXd x = case_study_states(1, 7)[0];
+  for (int k = 0; k < 60; ++k) {
+    xs.push_back(x);
+    x *= 0.97;
+  }
+  expect_parity(parity<float>(gpu::kExact, 1, xs, true));
+}
+
+TEST(GpuKernelOnHost, NonFiniteDataEndsInNumericalFailure) {
+  const MpcQpData d = case_study_artifact().qp();
+  const SolverOptions o = cpu_twin_options(SolverOptions{});
+  gpu::AdmmProblem p = make_gpu_problem(d, o);
+  p.f0[0] = std::nanf("");
+  HostKernelSolver<float> k(p, make_gpu_settings(o, gpu::kExact), 2);
+  k.solve(case_study_states(1, 8)[0]);
+  EXPECT_EQ(k.outcome().status, gpu::kNumericalFailure);
+}
+
+TEST(GpuKernelOnHost, TimeBudgetStopsTheLoop) {
+  const MpcQpData d = case_study_artifact().qp();
+  SolverOptions o = cpu_twin_options(SolverOptions{});
+  o.time_budget_us = 1.0;
+  o.eps_abs = 1e-12;
+  o.eps_rel = 0.0;
+  HostKernelSolver<float> k(make_gpu_problem(d, o), make_gpu_settings(o, gpu::kExact), 2);
+  k.solve(case_study_states(1, 9)[0]);
+  EXPECT_EQ(k.outcome().status, gpu::kTimeBudget);
+}
+
+TEST(GpuProblem, RejectsOptionsTheDeviceDoesNotImplement) {
+  SolverOptions o;
+  o.equilibrate = true;
+  EXPECT_THROW(make_gpu_problem(case_study_artifact().qp(), o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tmpc
