@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -17,9 +18,16 @@ namespace bench_case {
 
 using tmpc::ControllerArtifact;
 
+/// The source tree: $TMPC_SOURCE_DIR when set (a copy of the tree elsewhere, e.g. on
+/// a GPU machine), else where this build's sources were.
+inline std::string source_dir() {
+  const char* env = std::getenv("TMPC_SOURCE_DIR");
+  return env != nullptr && env[0] != '\0' ? std::string(env) : std::string(TMPC_SOURCE_DIR);
+}
+
 inline const ControllerArtifact& artifact() {
   static const ControllerArtifact a = [] {
-    tmpc::Config c = tmpc::load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor.yaml");
+    tmpc::Config c = tmpc::load_config(source_dir() + "/config/tiltrotor.yaml");
     c.synthesis.compare_gains = false;
     c.synthesis.verify_directions = 50;
     return tmpc::make_artifact(tmpc::design_controller(c, ""));

@@ -29,8 +29,7 @@ int query_devices(DeviceInfo* out, int max, char* message, std::size_t message_l
     if (e != cudaSuccess) return fail(e, "cudaGetDeviceProperties", message, message_len);
     DeviceInfo& d = out[n++];
     d.index = i;
-    std::strncpy(d.name, p.name, sizeof(d.name) - 1);
-    d.name[sizeof(d.name) - 1] = '\0';
+    std::snprintf(d.name, sizeof(d.name), "%s", p.name);
     d.major = p.major;
     d.minor = p.minor;
     d.global_memory = p.totalGlobalMem;

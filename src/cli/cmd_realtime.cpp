@@ -34,7 +34,6 @@ void install_signals() {
   std::signal(SIGTERM, on_signal);
 }
 
-const char* kSolvers = "admm | admm-thesis | cz | reference | explicit";
 
 void print_controller(const ControllerLoopStats& s) {
   for (const std::string& m : s.realtime.not_set) std::fprintf(stderr, "tmpc controller: not set: %s\n", m.c_str());
@@ -158,7 +157,7 @@ void register_realtime(CLI::App& app) {
   CLI::App* sc = app.add_subcommand("controller", "The on-board controller over a serial port (real time)");
   sc->add_option("--controller", c->controller, "controller artifact")->required()->check(CLI::ExistingFile);
   sc->add_option("--port", c->port, "serial device")->required();
-  sc->add_option("--solver", c->solver, kSolvers)->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sc->add_option("--solver", c->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sc->add_option("--explicit", c->explicit_law, "explicit law (default: CONTROLLER + 'x')");
   sc->add_option("--rt-priority", c->priority, "SCHED_FIFO priority 1..99 (0: none)")->check(CLI::Range(0, 99));
   sc->add_option("--cpu", c->cpu, "pin the loop to this CPU");
@@ -180,7 +179,7 @@ void register_realtime(CLI::App& app) {
   CLI::App* sh = app.add_subcommand("hil", "Plant and controller in real time over a pseudo-terminal pair");
   sh->add_option("--config", h->config, "configuration of the plant (YAML)")->check(CLI::ExistingFile);
   sh->add_option("--controller", h->controller, "controller artifact")->required()->check(CLI::ExistingFile);
-  sh->add_option("--solver", h->solver, kSolvers)->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sh->add_option("--solver", h->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sh->add_option("--explicit", h->explicit_law, "explicit law (default: CONTROLLER + 'x')");
   sh->add_option("--plant", h->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
   sh->add_flag("--no-disturbance", h->no_disturbance, "without the 1 N steps");

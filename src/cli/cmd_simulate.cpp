@@ -96,8 +96,7 @@ void register_simulate(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("simulate", "Closed-loop helix mission on a virtual clock");
   sub->add_option("--controller", o->controller, "controller artifact")->required();
   sub->add_option("--config", o->config, "accepted for symmetry; the artifact carries its configuration");
-  sub->add_option("--solver", o->solver, "admm | admm-thesis | cz | reference | explicit")
-      ->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sub->add_option("--solver", o->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sub->add_option("--explicit", o->explicit_law, "explicit law for --solver explicit (default: CONTROLLER + 'x')");
   sub->add_option("--plant", o->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
   sub->add_option("--duration", o->duration, "seconds")->check(CLI::PositiveNumber);

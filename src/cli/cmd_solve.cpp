@@ -1,6 +1,11 @@
-// tmpc solve --controller FILE.tmpc --solver admm|admm-thesis|cz|reference|explicit --x0 "..." [--json]
-// [--cold] [--eps E]: one nominal QP, with the KKT residuals of the returned point.
+// tmpc solve --controller FILE.tmpc --solver NAME --x0 "..." [--json] [--eps E]: one
+// nominal QP, with the KKT residuals of the returned point.
+// tmpc solve --controller FILE.tmpc --solver NAME --batch FILE [--out CSV]: many QPs
+// at once (the GPU solvers in one launch), one CSV row each.
+#include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 
@@ -21,13 +26,73 @@ Eigen::VectorXd parse_vector(const std::string& s, int n, const std::string& wha
 namespace {
 
 struct SolveOptionsCli {
-  std::string controller, solver = "admm", x0, explicit_law;
+  std::string controller, solver = "admm", x0, explicit_law, batch, out;
   bool json = false;
   double eps = 1e-3;
 };
 
+/// Batch file: one state a line, n comma- or space-separated numbers; '#' comments.
+std::vector<Eigen::VectorXd> read_batch(const std::string& path, int n) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("--batch: cannot read '" + path + "'");
+  std::vector<Eigen::VectorXd> xs;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    for (char& c : line) {
+      if (c == ' ' || c == '\t') c = ',';
+    }
+    std::string compact;  // runs of separators become one comma
+    for (char c : line) {
+      if (c != ',' || (!compact.empty() && compact.back() != ',')) compact += c;
+    }
+    if (!compact.empty() && compact.back() == ',') compact.pop_back();
+    if (compact.empty()) continue;
+    xs.push_back(parse_vector(compact, n, path + ":" + std::to_string(line_no)));
+  }
+  if (xs.empty()) throw std::runtime_error("--batch: '" + path + "' holds no states");
+  return xs;
+}
+
+void run_batch(const SolveOptionsCli& o, const ControllerArtifact& a) {
+  if (o.solver == "explicit") throw std::runtime_error("--batch: use a QP solver, not explicit");
+  const std::vector<Eigen::VectorXd> xs = read_batch(o.batch, a.n);
+  SolverOptions opt;
+  opt.eps_abs = opt.eps_rel = o.eps;
+  opt.warm_start = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<SolveResult> rs = solve_batch(o.solver, a.qp(), opt, xs);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::ofstream file;
+  if (!o.out.empty()) {
+    file.open(o.out);
+    if (!file) throw std::runtime_error("--out: cannot write '" + o.out + "'");
+  }
+  std::ostream& out = o.out.empty() ? std::cout : file;
+  out << "index,status,iterations,primal_residual,dual_residual,objective,u0,u1,u2,u3\n";
+  int converged = 0;
+  for (std::size_t i = 0; i < rs.size(); ++i) {
+    const SolveResult& r = rs[i];
+    converged += r.status == SolveStatus::Converged;
+    char row[512];
+    std::snprintf(row, sizeof row, "%zu,%s,%d,%.6e,%.6e,%.9g,%.9g,%.9g,%.9g,%.9g\n", i, to_string(r.status), r.iterations,
+                  r.primal_residual, r.dual_residual, r.objective, r.z(0), r.z(1), r.z(2), r.z(3));
+    out << row;
+  }
+  std::fprintf(stderr, "%s: %zu QPs in %.3f s (%.0f QPs/s, set-up included), %d converged\n", o.solver.c_str(), rs.size(), s,
+               static_cast<double>(rs.size()) / s, converged);
+}
+
 void run_solve(const SolveOptionsCli& o) {
   const ControllerArtifact a = load_artifact(o.controller);
+  if (!o.batch.empty()) {
+    run_batch(o, a);
+    return;
+  }
+  if (o.x0.empty()) throw std::runtime_error("solve: give --x0 (one state) or --batch FILE (many)");
   const Eigen::VectorXd x0 = parse_vector(o.x0, a.n, "--x0");
   SolverOptions opt;
   opt.eps_abs = opt.eps_rel = o.eps;
@@ -69,14 +134,27 @@ void run_solve(const SolveOptionsCli& o) {
 
 }  // namespace
 
+std::vector<std::string> solver_choices() {
+  std::vector<std::string> names = solver_names();
+  names.push_back("explicit");
+  return names;
+}
+
+std::string solver_choices_help() {
+  std::string help;
+  for (const std::string& n : solver_choices()) help += (help.empty() ? "" : " | ") + n;
+  return help;
+}
+
 void register_solve(CLI::App& app) {
   auto o = std::make_shared<SolveOptionsCli>();
   CLI::App* sub = app.add_subcommand("solve", "Solve the nominal QP for one state");
   sub->add_option("--controller", o->controller, "controller artifact")->required();
-  sub->add_option("--solver", o->solver, "admm | admm-thesis | cz | reference | explicit")
-      ->check(CLI::IsMember({"admm", "admm-thesis", "cz", "reference", "explicit"}));
+  sub->add_option("--solver", o->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sub->add_option("--explicit", o->explicit_law, "explicit law for --solver explicit (default: CONTROLLER + 'x')");
-  sub->add_option("--x0", o->x0, "normalized nominal state, 24 comma-separated values")->required();
+  sub->add_option("--x0", o->x0, "normalized nominal state, 24 comma-separated values");
+  sub->add_option("--batch", o->batch, "file of states, one a line (comma or space separated): solve them all at once");
+  sub->add_option("--out", o->out, "with --batch: CSV file for the results (default: standard output)");
   sub->add_option("--eps", o->eps, "tolerance (ADMM)")->check(CLI::PositiveNumber);
   sub->add_flag("--json", o->json, "print JSON");
   sub->callback([o]() { run_solve(*o); });

@@ -1,6 +1,9 @@
 // Subcommands of the tmpc executable; each registers itself on the CLI11 app.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include <CLI/CLI.hpp>
 
 namespace tmpc::cli {
@@ -25,6 +28,11 @@ void register_devices(CLI::App& app);
 void register_explicit(CLI::App& app);
 void register_compare(CLI::App& app);
 void register_realtime(CLI::App& app);
+
+/// The names --solver accepts: every QP solver of this build, then "explicit".
+std::vector<std::string> solver_choices();
+/// The same as "a | b | ..." for help texts.
+std::string solver_choices_help();
 
 }  // namespace tmpc::cli
 

@@ -5,10 +5,16 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
+#ifdef TMPC_HAVE_CUDA
+#include "cuda_qp_solver.hpp"
+#endif
 #include "tmpc/model/config.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
 int main(int argc, char** argv) {
+#ifdef TMPC_HAVE_CUDA
+  tmpc::register_cuda_solvers();  // "admm-cuda", "admm-cuda-thesis"
+#endif
   CLI::App app{"tmpc: real-time tube MPC (design, simulation, control)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "tmpc 0.1.0");

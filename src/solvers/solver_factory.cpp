@@ -1,5 +1,7 @@
 // make_solver(), the penalty rule, option validation.
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -78,14 +80,73 @@ std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOp
   return std::make_unique<detail::ReferenceQp>(qp, options);
 }
 
+namespace {
+struct Registered {
+  SolverMaker make;
+  BatchSolver batch;
+};
+std::mutex& registry_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::map<std::string, Registered>& registry() {
+  static std::map<std::string, Registered> r;
+  return r;
+}
+const char* const kBuiltin[] = {"admm", "admm-thesis", "cz", "reference"};
+}  // namespace
+
+void register_solver(const std::string& name, SolverMaker make, BatchSolver batch) {
+  if (make == nullptr) throw std::invalid_argument("register_solver: no maker for '" + name + "'");
+  for (const char* b : kBuiltin) {
+    if (name == b) throw std::invalid_argument("register_solver: '" + name + "' is a built-in solver");
+  }
+  std::lock_guard<std::mutex> lock(registry_mutex());
+  registry()[name] = Registered{make, batch};
+}
+
+std::vector<std::string> solver_names() {
+  std::vector<std::string> names(std::begin(kBuiltin), std::end(kBuiltin));
+  std::lock_guard<std::mutex> lock(registry_mutex());
+  for (const auto& [name, r] : registry()) names.push_back(name);
+  return names;
+}
+
+std::vector<SolveResult> solve_batch(const std::string& name, const MpcQpData& d, const SolverOptions& options,
+                                     const std::vector<Eigen::VectorXd>& x0s) {
+  BatchSolver batch = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(registry_mutex());
+    const auto it = registry().find(name);
+    if (it != registry().end()) batch = it->second.batch;
+  }
+  if (batch != nullptr) return batch(d, options, x0s);
+  SolverOptions cold = options;
+  cold.warm_start = false;
+  auto solver = make_solver(name, d, cold);
+  std::vector<SolveResult> out;
+  out.reserve(x0s.size());
+  for (const Eigen::VectorXd& x0 : x0s) out.push_back(solver->solve(x0));
+  return out;
+}
+
 std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& d, SolverOptions options) {
   options.validate();
+  SolverMaker registered = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(registry_mutex());
+    const auto it = registry().find(name);
+    if (it != registry().end()) registered = it->second.make;
+  }
+  if (registered != nullptr) return registered(d, options);
   const ParametricQp qp = ParametricQp::from_mpc(d);
   if (name == "admm") return std::make_unique<detail::AdmmPolytope>(qp, d.M, d.m, d.N, d.n, options);
   if (name == "admm-thesis") return std::make_unique<detail::AdmmThesis>(d, qp, options);
   if (name == "cz") return std::make_unique<detail::AdmmCz>(d, qp, options);
   if (name == "reference") return std::make_unique<detail::ReferenceQp>(qp, options);
-  throw std::invalid_argument("unknown solver '" + name + "' (available: admm, admm-thesis, cz, reference)");
+  std::string names;
+  for (const std::string& n : solver_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown solver '" + name + "' (available: " + names + ")");
 }
 
 }  // namespace tmpc

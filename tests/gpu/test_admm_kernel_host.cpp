@@ -10,6 +10,7 @@
 
 #include "../solvers/case_study_qps.hpp"
 #include "host_team.hpp"
+#include "parity.hpp"
 #include "tmpc/gpu/admm_kernel.hpp"
 #include "tmpc/solvers/gpu_problem.hpp"
 #include "tmpc/solvers/kkt.hpp"
@@ -58,10 +59,7 @@ class HostKernelSolver {
   gpu::AdmmOutcome outcome_;
 };
 
-struct ParityStats {
-  int n = 0, status_mismatch = 0, iteration_outliers = 0;
-  double worst_u = 0.0, iters_cpu = 0.0, iters_gpu = 0.0, worst_prim = 0.0, worst_stat = 0.0;
-};
+using test::ParityStats;
 
 gpu::BasicAdmmProblem<float> problem_of(const MpcQpData& d, const SolverOptions& o, float) { return make_gpu_problem(d, o); }
 gpu::BasicAdmmProblem<double> problem_of(const MpcQpData& d, const SolverOptions& o, double) {
@@ -82,40 +80,18 @@ ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& st
   for (const Eigen::VectorXd& x0 : states) {
     const SolveResult& c = cpu->solve(x0);
     k.solve(x0);
-    const gpu::AdmmOutcome& g = k.outcome();
-    ++st.n;
-    if (g.status != static_cast<int>(c.status)) ++st.status_mismatch;
-    const Eigen::VectorXd zg = k.z();
-    st.worst_u = std::max(st.worst_u, ((zg.head(4) - c.z.head(4)).cwiseQuotient(u_range)).cwiseAbs().maxCoeff());
-    st.iters_cpu += c.iterations;
-    st.iters_gpu += g.iterations;
-    // Iteration counts are multiples of the check interval (exact variant): a single
-    // interval is the resolution of the comparison.
-    const int slack = std::max(static_cast<int>(std::ceil(0.1 * c.iterations)), variant == gpu::kExact ? o.check_every : 1);
-    if (std::abs(g.iterations - c.iterations) > slack) ++st.iteration_outliers;
-    if (variant == gpu::kExact) {
-      const CondensedQp qp = cpu->problem().instance(x0);
-      const KktResiduals r = kkt_residuals(qp, zg, k.y());
-      const double scale = std::max({(qp.H * zg).cwiseAbs().maxCoeff(), qp.f.cwiseAbs().maxCoeff(), 1.0});
-      st.worst_prim = std::max(st.worst_prim, r.primal);
-      st.worst_stat = std::max(st.worst_stat, r.stationarity / scale);
-    }
+    const Eigen::VectorXd y = k.y();
+    st.add(*cpu, c, x0, u_range, k.outcome().status, k.outcome().iterations, k.z(),
+           variant == gpu::kExact ? &y : nullptr, variant == gpu::kExact ? o.check_every : 1);
   }
-  st.iters_cpu /= st.n;
-  st.iters_gpu /= st.n;
-  std::printf("%s variant %d team %d warm %d: %d QPs, status mismatches %d, worst |du|/range %.2e, mean iterations cpu %.1f kernel %.1f, outliers %d, worst primal %.2e, rel. stationarity %.2e\n",
-              sizeof(R) == 4 ? "float" : "double", variant, team, warm ? 1 : 0, st.n, st.status_mismatch, st.worst_u, st.iters_cpu, st.iters_gpu,
-              st.iteration_outliers, st.worst_prim, st.worst_stat);
+  char what[128];
+  std::snprintf(what, sizeof what, "%s variant %d team %d warm %d", sizeof(R) == 4 ? "float" : "double", variant, team,
+                warm ? 1 : 0);
+  st.finish(what);
   return st;
 }
 
-void expect_parity(const ParityStats& st, bool iterations = true) {
-  EXPECT_EQ(st.status_mismatch, 0);
-  EXPECT_LE(st.worst_u, 1e-3);  // 1e-3 of the input range
-  if (!iterations) return;
-  EXPECT_NEAR(st.iters_gpu, st.iters_cpu, 0.1 * st.iters_cpu);
-  EXPECT_LE(st.iteration_outliers, st.n / 20);  // float rounding may move a few by more
-}
+using test::expect_parity;
 
 TEST(GpuKernelOnHost, ExactVariantMatchesCpuTwinOnFiveHundredQps) {
   const ParityStats st = parity<float>(gpu::kExact, 1, case_study_states(500, 3), false);

@@ -1,15 +1,24 @@
 // Shared fixtures of the model tests: the default config and random admissible states.
 #pragma once
 
+#include <cstdlib>
 #include <random>
+#include <string>
 
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/dynamics.hpp"
 
 namespace tmpc::test {
 
+/// The source tree: $TMPC_SOURCE_DIR when set (test binaries run from a copy of the
+/// tree elsewhere, e.g. on a GPU machine), else where this build's sources were.
+inline std::string source_dir() {
+  const char* env = std::getenv("TMPC_SOURCE_DIR");
+  return env != nullptr && env[0] != '\0' ? std::string(env) : std::string(TMPC_SOURCE_DIR);
+}
+
 inline const Config& default_config() {
-  static const Config cfg = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor.yaml");
+  static const Config cfg = load_config(source_dir() + "/config/tiltrotor.yaml");
   return cfg;
 }
 

@@ -12,7 +12,7 @@
 namespace tmpc::test {
 
 inline std::string default_config_text() {
-  std::ifstream in(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor.yaml");
+  std::ifstream in(source_dir() + "/config/tiltrotor.yaml");
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();

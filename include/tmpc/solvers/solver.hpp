@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -93,6 +94,21 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
 std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options = {});
 /// True when the solver returns multipliers of lo <= A z <= hi (admm, reference).
 bool solver_has_multipliers(const std::string& name);
+
+/// Solvers built outside this library (the CUDA solvers "admm-cuda" and
+/// "admm-cuda-thesis", cuda/cuda_qp_solver.hpp) join make_solver by registering.
+using SolverMaker = std::unique_ptr<QpSolver> (*)(const MpcQpData& d, const SolverOptions& options);
+/// B QPs of one controller at once; results in the order of x0s.
+using BatchSolver = std::vector<SolveResult> (*)(const MpcQpData& d, const SolverOptions& options,
+                                                 const std::vector<Eigen::VectorXd>& x0s);
+/// Register `name` (replacing an earlier registration); batch may be nullptr.
+void register_solver(const std::string& name, SolverMaker make, BatchSolver batch = nullptr);
+/// Every name make_solver accepts: the built-in solvers, then the registered ones.
+std::vector<std::string> solver_names();
+/// B QPs at once: the solver's batched path where it has one (the GPU: one launch),
+/// otherwise one solver solving them in turn (cold starts). Throws like make_solver.
+std::vector<SolveResult> solve_batch(const std::string& name, const MpcQpData& d, const SolverOptions& options,
+                                     const std::vector<Eigen::VectorXd>& x0s);
 
 /// The spectral penalty rule (thesis future work): rho = 1 / sqrt(l_min l_max) over
 /// the nonzero eigenvalues of A H^-1 A' (Ghadimi et al. 2015), computed offline.

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Run the CUDA tests and the GPU benchmark from built binaries: BIN/tests/test_cuda and
+# BIN/bench/tmpc_bench_cuda (a build tree, or a bundle from scripts/pack_gpu_bundle.sh).
+# Fails when the tests skip (no usable GPU). Writes bench/results/tmpc_bench_cuda-*.json
+# and the test log under RESULTS (default bench/results).
+set -euo pipefail
+bin="$1"
+shift
+results="${RESULTS:-bench/results}"
+mkdir -p "$results"
+gpu=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -n1 || echo unknown)
+stamp="$(date +%Y%m%d-%H%M%S)"
+tag=$(echo "$gpu" | cut -d, -f1 | tr ' ' '-' | tr -cd 'A-Za-z0-9-')
+log="$results/test_cuda-${tag}-${stamp}.log"
+echo "GPU: $gpu"
+"$bin/tests/test_cuda" 2>&1 | tee "$log"
+if grep -q "SKIPPED" "$log"; then
+  echo "the CUDA tests skipped: no usable GPU here (see $log)" >&2
+  exit 1
+fi
+cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -n1)
+out="$results/tmpc_bench_cuda-${tag}-${stamp}.json"
+"$bin/bench/tmpc_bench_cuda" --benchmark_out="$out" --benchmark_out_format=json \
+  --benchmark_context=gpu="$gpu" --benchmark_context=cpu_model="$cpu" --benchmark_context=cores="$(nproc)" "$@"
+echo "results: $out and $log"
