@@ -6,6 +6,7 @@ packages=(
   libeigen3-dev libspdlog-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libmujoco-dev libsdp-dev coinor-libclp-dev
+  clang libclang-rt-14-dev
   python3 python3-numpy python3-cvxopt python3-matplotlib
 )
 missing=()

@@ -1,0 +1,32 @@
+# Build the protocol parser's libFuzzer target with clang (ASan + UBSan) and run it
+# for a fixed number of inputs from a seed corpus of valid frame streams.
+#   cmake -DCLANG=clang++ -DSRC=<source dir> -DOUT=<scratch dir> [-DRUNS=N] -P check_fuzz.cmake
+if(NOT RUNS)
+  set(RUNS 300000)
+endif()
+file(REMOVE_RECURSE ${OUT}/corpus)
+file(MAKE_DIRECTORY ${OUT}/corpus)
+set(common -std=c++17 -I${SRC}/include ${SRC}/src/io/protocol.cpp ${SRC}/src/model/checksum.cpp)
+execute_process(COMMAND ${CLANG} -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+                        ${SRC}/tests/io/fuzz_protocol.cpp ${common} -o ${OUT}/fuzz_protocol
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "building the fuzz target failed:\n${err}")
+endif()
+execute_process(COMMAND ${CLANG} -O1 ${SRC}/tests/io/fuzz_seeds.cpp ${common} -o ${OUT}/fuzz_seeds
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "building the seed generator failed:\n${err}")
+endif()
+execute_process(COMMAND ${OUT}/fuzz_seeds ${OUT}/corpus RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "writing the seed corpus failed")
+endif()
+execute_process(COMMAND ${OUT}/fuzz_protocol -runs=${RUNS} -seed=1 -max_len=1024 ${OUT}/corpus
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fuzzing found a failure:\n${err}")
+endif()
+string(REGEX MATCH "Done [0-9]+ runs[^\n]*" done "${err}")
+string(REGEX MATCH "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" cov "${err}")
+message(STATUS "fuzz_protocol: ${done} (${cov})")
