@@ -69,16 +69,22 @@ void register_all() {
       }
     }
   }
-  // The penalty rule and the acceleration, exact ADMM at the default horizon.
+  // The penalty rule, the acceleration and the active-set steps, exact ADMM at the
+  // default horizon (the default is spectral_x0.1_adaptive with polish_refine 1).
   struct Variant {
     const char* name;
     double rho_scale;
     bool adaptive, nesterov, ruiz;
+    int refine;
+    bool crash;
   };
-  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false, false}, Variant{"spectral_x0.1", 0.1, false, false, false},
-                          Variant{"spectral_x0.1_adaptive", 0.1, true, false, false},
-                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true, false},
-                          Variant{"spectral_x0.1_adaptive_ruiz", 0.1, true, false, true}}) {
+  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false, false, 1, false},
+                          Variant{"spectral_x0.1", 0.1, false, false, false, 1, false},
+                          Variant{"spectral_x0.1_adaptive", 0.1, true, false, false, 1, false},
+                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true, false, 1, false},
+                          Variant{"spectral_x0.1_adaptive_ruiz", 0.1, true, false, true, 1, false},
+                          Variant{"polish_refine0", 0.1, true, false, false, 0, false},
+                          Variant{"crash_start", 0.1, true, false, false, 1, true}}) {
     for (bool warm : {false, true}) {
       const std::string name = std::string("Rho/admm/N20/") + v.name + (warm ? "/warm" : "/cold");
       auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
@@ -87,6 +93,8 @@ void register_all() {
         o.adaptive_rho = v.adaptive;
         o.nesterov = v.nesterov;
         o.equilibrate = v.ruiz;
+        o.polish_refine = v.refine;
+        o.crash_start = v.crash;
         run(st, "admm", 20, warm, o);
       });
       b->Unit(benchmark::kMicrosecond)->Iterations(400);

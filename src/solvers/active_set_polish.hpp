@@ -31,6 +31,11 @@ class ActiveSetPolish {
   /// the KKT point; on failure they are untouched.
   bool solve(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const Eigen::VectorXd& f, const Eigen::VectorXd& lo,
              const Eigen::VectorXd& hi, double feas_tol, Eigen::VectorXd& z, Eigen::VectorXd& y);
+  /// After a failed solve: the primal-dual active-set step (Hintermueller, Ito and
+  /// Kunisch 2002) from its point: rows whose multiplier has the wrong sign leave the
+  /// guess, violated rows join it (the most violated first, while rows < variables).
+  /// False when the guess does not change (or the last solve produced no point).
+  bool refine(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, double feas_tol);
 
  private:
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 128, 128>;
@@ -42,6 +47,9 @@ class ActiveSetPolish {
   std::vector<int> idx_;
   std::vector<double> sign_;
   Eigen::VectorXd zc_, Az_;
+  bool have_point_ = false;  // the last solve produced (z, y_a), KKT or not
+  std::vector<int> keep_idx_;
+  std::vector<double> keep_sign_;
 };
 
 }  // namespace tmpc::detail

@@ -55,6 +55,7 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   rho_inv_.resize(m);
   K_.resize(n, n);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
+  h_llt_.compute(H_);
   factor();
   for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_, &xp_}) v->setZero(n);
   yp_.setZero(m);
@@ -90,11 +91,51 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   seen_signs_.assign(polish_.signs().begin(), polish_.signs().end());
   if (!settled) return false;
   if (polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;
-  if (!polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_)) {
-    tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
-    tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
-    return false;
+  tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
+  tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
+  bool ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+  // A wrong guess: a few primal-dual active-set steps from its point.
+  for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
+    ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
   }
+  if (!ok) return false;
+  x_ = xp_;
+  y_ = yp_;
+  z_.noalias() = A_ * x_;
+  z_ = z_.cwiseMax(lo).cwiseMin(hi);
+  zt_ = z_;
+  return true;
+}
+
+bool DenseAdmm::crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool warm) {
+  if (h_llt_.info() != Eigen::Success) return false;
+  if (warm) {
+    xp_ = x_;
+  } else {
+    xp_ = h_llt_.solve(-f);
+  }
+  Ax_.noalias() = A_ * xp_;
+  polish_.clear();
+  // Rows at or beyond a bound, the farthest first, while there is room.
+  for (;;) {
+    Eigen::Index worst = -1;
+    double worst_v = -1e-9;
+    for (Eigen::Index i = 0; i < Ax_.size(); ++i) {
+      const double v = std::max(Ax_(i) - hi(i), lo(i) - Ax_(i));
+      if (v > worst_v) {
+        worst_v = v;
+        worst = i;
+      }
+    }
+    if (worst < 0 || polish_.size() >= static_cast<int>(xp_.size())) break;
+    polish_.add(static_cast<int>(worst), Ax_(worst) > hi(worst) - 1e-9);
+    Ax_(worst) = 0.5 * (lo(worst) + hi(worst));  // taken
+  }
+  bool ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+  for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
+    ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+  }
+  if (!ok) return false;
   x_ = xp_;
   y_ = yp_;
   z_.noalias() = A_ * x_;
@@ -153,7 +194,15 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   res.status = SolveStatus::MaxIterations;
   const double f_norm = inf_norm(f_in);
   int k = 1;
-  for (; k <= opt_.max_iterations; ++k) {
+  if (opt_.crash_start && crash(f, lo, hi, opt_.warm_start && have_previous_)) {
+    res.status = SolveStatus::Converged;
+    k = 0;
+    Hx_.noalias() = H_ * x_;
+    Aty_.noalias() = At_ * y_;
+    res.primal_residual = 0.0;
+    res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
+  }
+  for (; k >= 1 && k <= opt_.max_iterations; ++k) {
     // x~ from the factored KKT matrix.
     tmp_m_ = rho_vec_.cwiseProduct(zh_) - yh_;
     rhs_.noalias() = At_ * tmp_m_;

@@ -49,11 +49,14 @@ class DenseAdmm {
   /// true (and x_, y_, z_ replaced) when that is a KKT point of the scaled problem.
   bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
+  /// Crash start: the active set of the start point (cold: the unconstrained
+  /// minimizer) polished with active-set steps; true when that is the KKT point.
+  bool crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool warm);
 
   Eigen::MatrixXd H_, A_, At_, K_;   // scaled: H~ = c D H D, A~ = E A D (Ruiz)
   Eigen::VectorXd D_, E_;             // variable and constraint scalings
   double c_ = 1.0;                    // cost scaling
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::LLT<Eigen::MatrixXd> llt_, h_llt_;  // K and H (crash start)
   Eigen::VectorXd rho_vec_, rho_inv_;
   std::vector<char> equality_;
   SolverOptions opt_;

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <new>
 
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "../synthesis/design_fixture.hpp"
@@ -27,10 +29,12 @@ namespace {
 TEST(SolverAllocation, SolveAllocatesNothing) {
   const ControllerArtifact a = make_artifact(test::quick_design());
   Eigen::VectorXd x0 = Eigen::VectorXd::Constant(24, 0.01);
-  for (const char* name : {"admm", "admm-thesis", "cz", "reference"}) {
+  for (const char* name : {"admm", "admm-crash", "admm-thesis", "cz", "reference"}) {
     SolverOptions o;
     o.max_iterations = 300;
-    auto s = make_solver(name, a, o);
+    const bool crash = std::string(name) == "admm-crash";  // the active-set crash start
+    o.crash_start = crash;
+    auto s = make_solver(crash ? "admm" : name, a, o);
     s->solve(x0);  // warm-up
     const long before = g_allocations.load();
     for (int k = 0; k < 20; ++k) {

@@ -164,6 +164,45 @@ TEST(Solvers, WarmStartBeatsColdOnAClosedLoopSequence) {
   EXPECT_LE(worse, 20);
 }
 
+// The crash start (the active set of the start point, active-set steps) returns a KKT
+// point or hands over to the ADMM: either way the reference's solution, cold on 500
+// case-study QPs and warm along a closed loop.
+TEST(Solvers, CrashStartGivesTheReferenceSolution) {
+  const ControllerArtifact& a = artifact();
+  SolverOptions o;
+  o.warm_start = false;
+  o.crash_start = true;
+  auto crash = make_solver("admm", a, o);
+  auto ref = make_solver("reference", a, SolverOptions{});
+  int crashed = 0;
+  double worst_u = 0.0;
+  for (const Eigen::VectorXd& x0 : case_study_states(500, 21)) {
+    const SolveResult r = ref->solve(x0);
+    const SolveResult c = crash->solve(x0);
+    ASSERT_EQ(c.status, SolveStatus::Converged);
+    crashed += c.iterations == 0;
+    worst_u = std::max(worst_u, (c.u0() - r.u0()).cwiseAbs().maxCoeff());
+    const CondensedQp qp = ref->problem().instance(x0);
+    // A crash is an exact KKT point; a hand-over ends at the ADMM's tolerance.
+    EXPECT_LT(kkt_residuals(qp, c.z, c.y).primal, c.iterations == 0 ? 1e-6 : 5e-3);
+  }
+  std::printf("crash start: %d of 500 cold QPs solved before any ADMM iteration; worst |du| %.2e\n", crashed, worst_u);
+  EXPECT_LT(worst_u, 1e-3);
+  o.warm_start = true;
+  auto warm = make_solver("admm", a, o);
+  Eigen::VectorXd x = case_study_states(1, 22)[0];
+  int warm_crashed = 0;
+  for (int k = 0; k < 100; ++k) {
+    const SolveResult w = warm->solve(x);
+    ASSERT_EQ(w.status, SolveStatus::Converged);
+    warm_crashed += w.iterations == 0;
+    EXPECT_LT((w.u0() - ref->solve(x).u0()).cwiseAbs().maxCoeff(), 1e-3);
+    x = a.A * x + a.B * w.u0();
+  }
+  std::printf("crash start, warm: %d of 100 closed-loop steps without an ADMM iteration\n", warm_crashed);
+  EXPECT_GT(warm_crashed, 50);
+}
+
 TEST(Solvers, StatusesForBadInputAndTimeBudget) {
   SolverOptions o;
   o.warm_start = false;

@@ -54,6 +54,10 @@ struct SolverOptions {
   bool polish = true;            ///< exact ADMM: polish the active set once the residuals are
                                  ///< within 10x the tolerance (OSQP-style; the exact KKT point
                                  ///< of the guessed active set, accepted only if it is one)
+  bool crash_start = false;      ///< before iterating, try the active set of the start point
+                                 ///< (cold: the unconstrained minimizer) with active-set steps
+  int polish_refine = 1;         ///< after a wrong guess, up to this many primal-dual active-set
+                                 ///< steps from its point (0: the plain OSQP polish)
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
