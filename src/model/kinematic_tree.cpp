@@ -18,7 +18,7 @@ KinematicTree::KinematicTree(const VehicleParams& p) {
   const Eigen::Vector3d ex = Eigen::Vector3d::UnitX();
   const Eigen::Vector3d ey = Eigen::Vector3d::UnitY();
   const Eigen::Vector3d ez = Eigen::Vector3d::UnitZ();
-  frames_.resize(9);
+  frames_.resize(kTreeFrames);
   // 0: load position xi (root translation).
   frames_[0] = TreeFrame{};
   // 1-3: ZYX attitude of the load frame, R_IL = Rz(psi) Ry(theta) Rx(phi).
@@ -60,8 +60,6 @@ Mat3<T> axis_rotation(const Eigen::Vector3d& axis, const T& angle) {
 template <class T>
 TreePose<T> KinematicTree::pose(const T* q) const {
   TreePose<T> out;
-  out.R.resize(frames_.size());
-  out.p.resize(frames_.size());
   for (std::size_t k = 0; k < frames_.size(); ++k) {
     const TreeFrame& f = frames_[k];
     Mat3<T> r;

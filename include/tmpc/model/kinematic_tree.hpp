@@ -57,11 +57,16 @@ struct TreeBody {
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();     // about the CoM, frame axes
 };
 
-/// World pose of every frame for one configuration q.
+/// Frames of the tree (load translation, its three ZYX rotations, two swing joints,
+/// body, two rotor groups).
+constexpr int kTreeFrames = 9;
+
+/// World pose of every frame for one configuration q (fixed size: the real-time path
+/// evaluates it every period without allocating).
 template <class T>
 struct TreePose {
-  std::vector<Mat3<T>> R;
-  std::vector<Vec3<T>> p;
+  std::array<Mat3<T>, kTreeFrames> R;
+  std::array<Vec3<T>, kTreeFrames> p;
 };
 
 class KinematicTree {
