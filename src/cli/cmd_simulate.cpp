@@ -33,6 +33,13 @@ void print_metrics(const MissionMetrics& r) {
               r.diverged ? ", DIVERGED" : "");
   std::printf("  solve time us: min %.1f, median %.1f, p99 %.1f, max %.1f; iterations mean %.1f, max %d\n",
               r.solve_min, r.solve_p50, r.solve_p99, r.solve_max, r.iterations_mean, r.iterations_max);
+  if (r.tube_exits > 0) {
+    std::printf("  tube exits per disturbance window:");
+    for (std::size_t w = 0; w < r.tube_exits_per_step.size(); ++w) {
+      std::printf(" %ld (up to %.3g radii of Z)", r.tube_exits_per_step[w], r.tube_ratio_max_per_step[w]);
+    }
+    std::printf("; mostly in %s\n", r.tube_worst_state.c_str());
+  }
 }
 
 // --monte-carlo K: K runs with masses and inertias perturbed (run index 0..K-1 of the

@@ -46,6 +46,8 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
   std::vector<double> step_times;
   for (const DisturbanceStep& s : cfg.disturbances) step_times.push_back(s.time);
   m.tube_exits_per_step.assign(o.disturbance ? step_times.size() + 1 : 1, 0);
+  m.tube_ratio_max_per_step.assign(m.tube_exits_per_step.size(), 0.0);
+  std::vector<long> worst_count(static_cast<std::size_t>(a.n), 0);
   std::ofstream csv;
   if (!o.telemetry_csv.empty()) {
     csv.open(o.telemetry_csv);
@@ -53,7 +55,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     for (const char* n : kCoordNames) csv << ",e_" << n;
     for (const char* n : kCoordNames) csv << ",r_" << n;
     csv << ",u_f_r,u_f_l,u_tau_r,u_tau_l,ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,status,iterations,solve_us,fallback,"
-           "clipped,in_tube,in_state_box\n";
+           "clipped,in_tube,in_state_box,tube_ratio,tube_worst\n";
   }
   const double box_limit = 10.0;
   for (long k = 0; k < K; ++k) {
@@ -82,13 +84,15 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     m.fallback_periods += s.fallback;
     m.clipped_periods += s.clipped;
     m.state_constraint_violations += !s.in_state_box;
+    std::size_t w = 0;  // the disturbance window of this period
+    if (o.disturbance) {
+      while (w < step_times.size() && t >= step_times[w]) ++w;
+    }
+    m.tube_ratio_max_per_step[w] = std::max(m.tube_ratio_max_per_step[w], s.tube_ratio);
     if (!s.in_tube) {
       ++m.tube_exits;
-      std::size_t w = 0;
-      if (o.disturbance) {
-        while (w < step_times.size() && t >= step_times[w]) ++w;
-      }
       ++m.tube_exits_per_step[w];
+      ++worst_count[static_cast<std::size_t>(s.tube_worst)];
     }
     if (csv) {
       csv << t;
@@ -97,9 +101,12 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
       for (int i = 0; i < 4; ++i) csv << "," << s.u(i);
       for (int i = 0; i < 4; ++i) csv << "," << s.u_bar(i);
       csv << "," << to_string(s.status) << "," << s.iterations << "," << s.solve_us << "," << s.fallback << ","
-          << s.clipped << "," << s.in_tube << "," << s.in_state_box << "\n";
+          << s.clipped << "," << s.in_tube << "," << s.in_state_box << "," << s.tube_ratio << ","
+          << s.tube_worst << "\n";
     }
   }
+  const auto most = std::max_element(worst_count.begin(), worst_count.end());
+  if (m.tube_exits > 0) m.tube_worst_state = error_state_name(static_cast<int>(most - worst_count.begin()));
   const double n = std::max<double>(1.0, static_cast<double>(m.periods));
   for (int i = 0; i < 10; ++i) m.rmse[static_cast<std::size_t>(i)] = std::sqrt(sq[static_cast<std::size_t>(i)] / n);
   m.iterations_mean /= n;
@@ -129,7 +136,10 @@ std::string metrics_json(const MissionMetrics& m) {
   j["deadline_misses"] = m.deadline_misses;
   j["fallback_periods"] = m.fallback_periods;
   j["clipped_periods"] = m.clipped_periods;
-  j["tube_exits"] = {{"total", m.tube_exits}, {"per_disturbance_step", m.tube_exits_per_step}};
+  j["tube_exits"] = {{"total", m.tube_exits},
+                     {"per_disturbance_step", m.tube_exits_per_step},
+                     {"max_distance_per_step", m.tube_ratio_max_per_step},
+                     {"worst_state", m.tube_worst_state}};
   j["state_constraint_violations"] = m.state_constraint_violations;
   j["max_abs_error"] = {{"x", m.max_abs_error[0]}, {"y", m.max_abs_error[1]}, {"z", m.max_abs_error[2]}};
   j["solver"] = m.solver;

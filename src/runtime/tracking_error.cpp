@@ -19,4 +19,12 @@ void TrackingError::integrate(double dt) {
   integral_ += dt * Eigen::Vector4d(xt_(kX), xt_(kY), xt_(kZ), xt_(kPsi));
 }
 
+std::string error_state_name(int i) {
+  static const char* const integrals[] = {"x", "y", "z", "psi"};
+  if (i >= 0 && i < kNq) return kCoordNames[static_cast<std::size_t>(i)];
+  if (i >= kNq && i < 2 * kNq) return std::string("d_") + kCoordNames[static_cast<std::size_t>(i - kNq)];
+  if (i >= 2 * kNq && i < 2 * kNq + 4) return std::string("int_") + integrals[i - 2 * kNq];
+  return "state_" + std::to_string(i);
+}
+
 }  // namespace tmpc

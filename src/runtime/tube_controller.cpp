@@ -35,6 +35,9 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde) {
   if (opt_.reinitialize_nominal && a_.x_bar.contains(x_n_)) x_bar_ = x_n_;
   e_ = x_n_ - x_bar_;
   out_.in_tube = ((e_ - a_.Z.c).cwiseAbs().array() <= z_half_.array() + 1e-12).all();
+  Eigen::Index worst = 0;
+  out_.tube_ratio = ((e_ - a_.Z.c).cwiseAbs().array() / (z_half_.array() + 1e-300)).maxCoeff(&worst);
+  out_.tube_worst = static_cast<int>(worst);
   out_.x_bar = x_bar_;
   return x_bar_;
 }

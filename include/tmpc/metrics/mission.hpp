@@ -35,6 +35,10 @@ struct MissionMetrics {
   long periods = 0, deadline_misses = 0, fallback_periods = 0, clipped_periods = 0;
   long tube_exits = 0, state_constraint_violations = 0;
   std::vector<long> tube_exits_per_step;    ///< before the first step, then after each step
+  /// Largest distance from the tube in each of those windows, in radii of Z (<= 1:
+  /// inside), and the error state that set it most often while outside.
+  std::vector<double> tube_ratio_max_per_step;
+  std::string tube_worst_state;
   std::string solver, plant;
   bool diverged = false;                    ///< the state became non-finite or left 10x the box
 };

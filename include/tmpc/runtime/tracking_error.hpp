@@ -2,12 +2,18 @@
 // q' - q_r', integrals of the x, y, z, psi errors), psi wrapped to (-pi, pi].
 #pragma once
 
+#include <string>
+
 #include <Eigen/Core>
 
 #include "tmpc/model/dynamics.hpp"
 #include "tmpc/model/reference.hpp"
 
 namespace tmpc {
+
+/// Name of error state i: the coordinate ("x", "gamma_1"), its rate ("d_x"), or an
+/// integral ("int_x", "int_psi").
+std::string error_state_name(int i);
 
 class TrackingError {
  public:

@@ -32,6 +32,8 @@ struct ControlStep {
   bool fallback = false;  ///< the LQR law was applied
   bool clipped = false;   ///< an input hit an actuator limit
   bool in_tube = true;    ///< x_tilde - x_bar inside the interval hull of Z
+  double tube_ratio = 0.0;  ///< max_i |x_tilde - x_bar - c_Z|_i / radius_i (<= 1: inside)
+  int tube_worst = 0;       ///< the state i of that maximum
   bool in_state_box = true;  ///< x_tilde inside X
 };
 
