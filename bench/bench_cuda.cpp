@@ -37,7 +37,7 @@ std::vector<float> flat_states(const std::vector<Eigen::VectorXd>& xs) {
   return v;
 }
 
-enum Path { kFused = 0, kGraph = 1, kCublas = 2 };
+enum Path { kFused = 0, kGraph = 1, kCublas = 2, kFusedBlock = 3 };
 
 void latency(benchmark::State& st, int path, int variant, int N, bool warm) {
   const std::string why = no_device_reason();
@@ -53,6 +53,7 @@ void latency(benchmark::State& st, int path, int variant, int N, bool warm) {
   const tmpc::gpu::AdmmProblem p = tmpc::make_gpu_problem(d, o);
   const tmpc::gpu::AdmmSettings s = tmpc::make_gpu_settings(o, variant);
   tmpc::cuda::DeviceOptions dopt;
+  dopt.prefer_block_form = path == kFusedBlock;
   if (path == kGraph) {
     // A fixed count every benchmark state converges within: the fused kernel's most.
     tmpc::cuda::AdmmDevice probe(p, s, tmpc::cuda::DeviceOptions{});
@@ -75,7 +76,7 @@ void latency(benchmark::State& st, int path, int variant, int N, bool warm) {
     const float* x0 = x0s.data() + (k % xs.size()) * p.nx;
     const auto t0 = Clock::now();
     bool ok = false;
-    if (path == kFused) {
+    if (path == kFused || path == kFusedBlock) {
       ok = dev.start(x0);
       while (ok && dev.query() == 0) {
       }
@@ -164,11 +165,11 @@ void cpu_one_core(benchmark::State& st, const std::string& solver, bool twin) {
 }
 
 void register_all() {
-  const char* paths[] = {"fused", "graph", "cublas"};
+  const char* paths[] = {"fused", "graph", "cublas", "fused_block"};
   for (int N : {10, 20, 40}) {
-    for (int path : {kFused, kGraph, kCublas}) {
+    for (int path : {kFused, kGraph, kCublas, kFusedBlock}) {
       for (bool warm : {false, true}) {
-        if (path == kGraph && warm) continue;  // fixed count: cold only
+        if ((path == kGraph || path == kFusedBlock) && warm) continue;  // cold only
         const std::string name = std::string("latency/exact/") + paths[path] + "/N:" + std::to_string(N) +
                                  (warm ? "/warm" : "/cold");
         benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { latency(st, path, tmpc::gpu::kExact, N, warm); })

@@ -1,6 +1,7 @@
 // AdmmDevice: set-up (device copies, slots, pinned buffers), the fused single-solve
 // path and the batched path. Every CUDA call is checked; failures become statuses.
 #include <cstring>
+#include <utility>
 
 #include "admm_device_impl.cuh"
 
@@ -66,11 +67,18 @@ bool AdmmDevice::Impl::setup() {
   if (!check(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "cudaStreamCreate")) return false;
   if (!check(cudaEventCreateWithFlags(&done, cudaEventDisableTiming), "cudaEventCreate")) return false;
   bool uploaded = true;
-  view = gpu::view_of(p, [&](const std::vector<float>& h) -> const float* {
+  std::vector<std::pair<const std::vector<float>*, const float*>> copies;  // each array once
+  auto where = [&](const std::vector<float>& h) -> const float* {
+    for (const auto& c : copies) {
+      if (c.first == &h) return c.second;
+    }
     const float* d = nullptr;
     if (uploaded && !upload(h, d, "copy of the QP data to the device")) uploaded = false;
+    copies.emplace_back(&h, d);
     return d;
-  });
+  };
+  view = gpu::view_of(p, where);
+  view_block = gpu::view_of(p, where, true);
   if (!uploaded) return false;
 
   const int slots = options.max_batch + 1;
@@ -100,6 +108,7 @@ bool AdmmDevice::Impl::setup() {
              "cudaDeviceGetAttribute"))
     return false;
   const int staged = staged_matrix_floats(settings.variant, view);
+  const int staged_block = p.Gblk.empty() ? staged : staged_matrix_floats(settings.variant, view_block);
   ws_fused = gpu::workspace_floats(p.nz, p.nc, p.N, p.n, options.threads);
   ws_batch = gpu::workspace_floats(p.nz, p.nc, p.N, p.n, options.batch_threads);
   const int base_fused = 64 + pad32(p.nx) + ws_fused, base_batch = 64 + pad32(p.nx) + ws_batch;
@@ -110,10 +119,27 @@ bool AdmmDevice::Impl::setup() {
     error = buf;
     return false;
   }
-  stage_fused = options.stage_matrices && (base_fused + staged) * 4 <= max_smem;
-  stage_batch = options.batch_stage_matrices && (base_batch + staged) * 4 <= max_smem;
-  smem_fused = (base_fused + (stage_fused ? staged : 0)) * 4;
-  smem_batch = (base_batch + (stage_batch ? staged : 0)) * 4;
+  // Staged matrices: dense where they fit, else A and P by their repeating blocks
+  // (the TX2's 48 KB at N = 20), else read from global memory (dense, cached).
+  auto choose = [&](bool wanted, int base, bool& stage, bool& block) {
+    stage = block = false;
+    if (!wanted) return base;
+    if (!options.prefer_block_form && (base + staged) * 4 <= max_smem) {
+      stage = true;
+      return base + staged;
+    }
+    if (!p.Gblk.empty() && (base + staged_block) * 4 <= max_smem) {
+      stage = block = true;
+      return base + staged_block;
+    }
+    if ((base + staged) * 4 <= max_smem) {  // preferred the blocks, but the problem has none
+      stage = true;
+      return base + staged;
+    }
+    return base;
+  };
+  smem_fused = 4 * choose(options.stage_matrices, base_fused, stage_fused, block_fused);
+  smem_batch = 4 * choose(options.batch_stage_matrices, base_batch, stage_batch, block_batch);
   const int most = smem_fused > smem_batch ? smem_fused : smem_batch;
   if (most > 48 * 1024 && !check(allow_shared_memory(settings.variant, most), "cudaFuncSetAttribute")) return false;
   if (options.cublas_path && settings.variant == gpu::kExact && settings.nesterov == 0 && !setup_unfused()) return false;
@@ -121,7 +147,8 @@ bool AdmmDevice::Impl::setup() {
 }
 
 bool AdmmDevice::Impl::launch_fused(const float* x0s, int blocks, const SlotArrays& slots, bool batch) {
-  return check(launch_fused_kernel(settings.variant, view, settings, x0s, slots, blocks,
+  const bool block = batch ? block_batch : block_fused;
+  return check(launch_fused_kernel(settings.variant, block ? view_block : view, settings, x0s, slots, blocks,
                                    batch ? options.batch_threads : options.threads, batch ? ws_batch : ws_fused,
                                    batch ? smem_batch : smem_fused, batch ? stage_batch : stage_fused, stream),
                "fused ADMM kernel launch");
@@ -162,6 +189,7 @@ int AdmmDevice::nc() const { return impl_->problem.nc; }
 int AdmmDevice::nx() const { return impl_->problem.nx; }
 int AdmmDevice::fused_shared_bytes() const { return impl_->smem_fused; }
 bool AdmmDevice::fused_matrices_staged() const { return impl_->stage_fused; }
+bool AdmmDevice::fused_block_form() const { return impl_->block_fused; }
 const gpu::AdmmOutcome& AdmmDevice::outcome() const { return impl_->last; }
 const float* AdmmDevice::z() const { return impl_->running_graph ? impl_->h_graph_z : impl_->h_z; }
 

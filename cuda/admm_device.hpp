@@ -27,8 +27,10 @@ struct DeviceOptions {
   int threads = 256;             ///< fused path: threads a block (a multiple of 32)
   int batch_threads = 128;       ///< batched path: threads a block
   int max_batch = 0;             ///< QPs a batched launch may hold (buffers allocated at set-up)
-  bool stage_matrices = true;    ///< copy the matrices to shared memory when they fit (fused)
+  bool stage_matrices = true;    ///< copy the matrices to shared memory when they fit (fused),
+                                 ///< A and P by their repeating blocks if only that fits
   bool batch_stage_matrices = false;  ///< the same for the batched path (occupancy trade-off)
+  bool prefer_block_form = false;  ///< stage A and P by their blocks even where dense fits (tests, TX2-like budgets)
   bool cublas_path = true;       ///< set up the thesis-style and graph paths (exact variant)
   int graph_iterations = 0;      ///< > 0: capture the graph path with this iteration count
 };
@@ -49,6 +51,8 @@ class AdmmDevice {
   /// Shared memory bytes of a fused launch and whether the matrices are staged there.
   int fused_shared_bytes() const;
   bool fused_matrices_staged() const;
+  /// True when the staged A (or P) is held by its repeating blocks (dense did not fit).
+  bool fused_block_form() const;
 
   // --- fused single-solve path (non-blocking) ---
   /// Launch one solve from state x0 (nx floats). False if the launch failed.

@@ -34,7 +34,9 @@ struct AdmmDevice::Impl {
   cudaStream_t stream = nullptr;
   cudaEvent_t done = nullptr;
   std::vector<void*> device_blocks;  // every cudaMalloc, freed at destruction
-  gpu::ProblemView<float> view{};   // device pointers, ld = cols
+  gpu::ProblemView<float> view{};   // device pointers, ld = cols, dense A and P
+  gpu::ProblemView<float> view_block{};  // the same with A and P in block form (if the problem has it)
+  bool block_fused = false, block_batch = false;  // a path launches with view_block
   int state_stride = 0;
   int ws_fused = 0, ws_batch = 0;   // workspace floats a block
   int smem_fused = 0, smem_batch = 0;

@@ -56,7 +56,23 @@ __device__ gpu::MatView<float> stage(const gpu::MatView<float>& src, float*& dst
   return v;
 }
 
-__host__ __device__ int staged_floats(const gpu::MatView<float>& m) { return m.rows * (m.cols | 1); }
+/// The block form (G_l, S_l) of A or P copied to shared memory.
+__device__ gpu::MatView<float> stage_blocks(const gpu::MatView<float>& src, float*& dst) {
+  const int count = src.bN * src.bn * src.bm;
+  for (int k = threadIdx.x; k < count; k += blockDim.x) {
+    dst[k] = src.G[k];
+    dst[count + k] = src.S[k];
+  }
+  gpu::MatView<float> v = src;
+  v.G = dst;
+  v.S = dst + count;
+  dst += 2 * count;
+  return v;
+}
+
+__host__ __device__ int staged_floats(const gpu::MatView<float>& m) {
+  return m.G != nullptr ? 2 * m.bN * m.bn * m.bm : m.rows * (m.cols | 1);
+}
 
 template <int kVariant>
 __global__ void admm_fused_kernel(gpu::ProblemView<float> v, gpu::AdmmSettings s, const float* x0s, SlotArrays slots,
@@ -71,11 +87,11 @@ __global__ void admm_fused_kernel(gpu::ProblemView<float> v, gpu::AdmmSettings s
   gpu::ProblemView<float> P = v;
   if (stage_matrices) {
     if (kVariant == gpu::kExact) {
-      P.A = stage(v.A, mats);
+      P.A = v.A.G != nullptr ? stage_blocks(v.A, mats) : stage(v.A, mats);
       P.Kinv = stage(v.Kinv, mats);
       P.H = stage(v.H, mats);
     } else {
-      P.P = stage(v.P, mats);
+      P.P = v.P.G != nullptr ? stage_blocks(v.P, mats) : stage(v.P, mats);
       P.H1inv = stage(v.H1inv, mats);
       P.H2last = stage(v.H2last, mats);
     }

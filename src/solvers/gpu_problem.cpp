@@ -1,6 +1,7 @@
 // Flat float QP data for the GPU solver (see gpu_problem.hpp).
 #include "tmpc/solvers/gpu_problem.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
@@ -60,6 +61,30 @@ gpu::BasicAdmmProblem<R> build(const MpcQpData& d, const SolverOptions& options)
   p.xhi = flat<R>(Eigen::VectorXd(d.x_bar.hi.replicate(d.N, 1)));
   p.ulo = flat<R>(Eigen::VectorXd(d.u_bar.lo.replicate(d.M, 1)));
   p.uhi = flat<R>(Eigen::VectorXd(d.u_bar.hi.replicate(d.M, 1)));
+  // Block form of P: G_l = A^l B, S_l = G_0 + ... + G_l, used only if it rebuilds P.
+  {
+    std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(d.N)), S(static_cast<std::size_t>(d.N));
+    Eigen::MatrixXd Al = Eigen::MatrixXd::Identity(d.n, d.n);
+    for (int l = 0; l < d.N; ++l) {
+      G[static_cast<std::size_t>(l)] = Al * d.B;
+      S[static_cast<std::size_t>(l)] = l == 0 ? G[0] : Eigen::MatrixXd(S[static_cast<std::size_t>(l - 1)] + G[static_cast<std::size_t>(l)]);
+      Al = d.A * Al;
+    }
+    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(d.N * d.n, d.M * d.m);
+    for (int k = 0; k < d.N; ++k) {
+      for (int j = 0; j < d.M; ++j) {
+        if (j < d.M - 1 && j <= k) P.block(k * d.n, j * d.m, d.n, d.m) = G[static_cast<std::size_t>(k - j)];
+        if (j == d.M - 1 && k >= d.M - 1) P.block(k * d.n, j * d.m, d.n, d.m) = S[static_cast<std::size_t>(k - d.M + 1)];
+      }
+    }
+    if ((P - d.P).cwiseAbs().maxCoeff() <= 1e-9 * std::max(1.0, d.P.cwiseAbs().maxCoeff())) {
+      for (int l = 0; l < d.N; ++l) {
+        const std::vector<R> g = flat<R>(G[static_cast<std::size_t>(l)]), s = flat<R>(S[static_cast<std::size_t>(l)]);
+        p.Gblk.insert(p.Gblk.end(), g.begin(), g.end());
+        p.Sblk.insert(p.Sblk.end(), s.begin(), s.end());
+      }
+    }
+  }
   const char* bad = p.check();
   if (bad[0] != '\0') throw std::logic_error(std::string("make_gpu_problem: ") + bad);
   return p;

@@ -108,6 +108,17 @@ TEST(CudaAdmm, FusedExactWithMatricesInGlobalMemory) {
   expect_parity(fused_parity(gpu::kExact, case_study_states(100, 11), false, dopt));
 }
 
+TEST(CudaAdmm, FusedExactWithTheBlockFormInSharedMemory) {
+  REQUIRE_GPU();
+  cuda::DeviceOptions dopt;
+  dopt.prefer_block_form = true;  // as on a TX2, where the dense A does not fit
+  expect_parity(fused_parity(gpu::kExact, case_study_states(100, 19), false, dopt));
+  CaseStudy s(false);
+  cuda::AdmmDevice dev(make_gpu_problem(s.d, s.o), make_gpu_settings(s.o, gpu::kExact), dopt);
+  ASSERT_TRUE(dev.ok()) << dev.error();
+  EXPECT_TRUE(dev.fused_block_form());
+}
+
 TEST(CudaAdmm, FusedThesisMatchesItsCpuTwin) {
   REQUIRE_GPU();
   // Float needs more iterations of the literal algorithm than double (measured +34 %

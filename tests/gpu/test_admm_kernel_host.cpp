@@ -25,8 +25,11 @@ using test::case_study_states;
 template <class R>
 class HostKernelSolver {
  public:
-  HostKernelSolver(const gpu::BasicAdmmProblem<R>& p, const gpu::AdmmSettings& s, int team)
-      : p_(p), s_(s), team_(team), view_(gpu::view_of(p_, [](const std::vector<R>& v) { return v.data(); })) {
+  HostKernelSolver(const gpu::BasicAdmmProblem<R>& p, const gpu::AdmmSettings& s, int team, bool block_form = false)
+      : p_(p),
+        s_(s),
+        team_(team),
+        view_(gpu::view_of(p_, [](const std::vector<R>& v) { return v.data(); }, block_form)) {
     state_.assign(static_cast<std::size_t>(gpu::state_floats(p.nz, p.nc, p.N, p.n)), R(0));
     ws_.assign(static_cast<std::size_t>(gpu::workspace_floats(p.nz, p.nc, p.N, p.n, team)), R(0));
     z_.assign(static_cast<std::size_t>(p.nz), R(0));
@@ -68,13 +71,13 @@ gpu::BasicAdmmProblem<double> problem_of(const MpcQpData& d, const SolverOptions
 
 /// Kernel code in precision R with `team` threads against the CPU twin on `states`.
 template <class R>
-ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& states, bool warm) {
+ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& states, bool warm, bool block_form = false) {
   const ControllerArtifact& a = case_study_artifact();
   const MpcQpData d = a.qp();
   SolverOptions o = cpu_twin_options(SolverOptions{});
   o.warm_start = warm;
   auto cpu = make_solver(variant == gpu::kExact ? "admm" : "admm-thesis", d, o);
-  HostKernelSolver<R> k(problem_of(d, o, R(0)), make_gpu_settings(o, variant), team);
+  HostKernelSolver<R> k(problem_of(d, o, R(0)), make_gpu_settings(o, variant), team, block_form);
   const Eigen::VectorXd u_range = d.u_bar.hi - d.u_bar.lo;
   ParityStats st;
   for (const Eigen::VectorXd& x0 : states) {
@@ -85,8 +88,8 @@ ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& st
            variant == gpu::kExact ? &y : nullptr, variant == gpu::kExact ? o.check_every : 1);
   }
   char what[128];
-  std::snprintf(what, sizeof what, "%s variant %d team %d warm %d", sizeof(R) == 4 ? "float" : "double", variant, team,
-                warm ? 1 : 0);
+  std::snprintf(what, sizeof what, "%s variant %d team %d warm %d%s", sizeof(R) == 4 ? "float" : "double", variant, team,
+                warm ? 1 : 0, block_form ? " block form" : "");
   st.finish(what);
   return st;
 }
@@ -133,6 +136,20 @@ TEST(GpuKernelOnHost, WarmStartOnAClosedLoopLikeSequence) {
     x *= 0.97;
   }
   expect_parity(parity<float>(gpu::kExact, 1, xs, true));
+}
+
+TEST(GpuKernelOnHost, BlockFormOfTheConstraintMatrixGivesTheSameSolves) {
+  // A = [I; P] from its repeating blocks (G_l = A^l B and their sums): what the kernel
+  // uses where the dense matrices do not fit in shared memory (the TX2's 48 KB).
+  const gpu::AdmmProblem p = make_gpu_problem(case_study_artifact().qp(), cpu_twin_options(SolverOptions{}));
+  ASSERT_FALSE(p.Gblk.empty()) << "the case study's P has the move-blocked Toeplitz structure";
+  EXPECT_LT(2 * p.Gblk.size(), p.A.size());  // less than half the numbers of the dense A
+  const auto xs = case_study_states(100, 23);
+  ParityStats st = parity<float>(gpu::kExact, 1, xs, false, true);
+  expect_parity(st);
+  EXPECT_LE(st.worst_prim, 5e-3);
+  expect_parity(parity<float>(gpu::kExact, 5, case_study_states(6, 24), true, true));
+  expect_parity(parity<double>(gpu::kThesis, 3, case_study_states(2, 25), false, true));
 }
 
 TEST(GpuKernelOnHost, NonFiniteDataEndsInNumericalFailure) {

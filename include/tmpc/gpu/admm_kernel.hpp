@@ -31,10 +31,18 @@ namespace tmpc {
 namespace gpu {
 
 /// A row-major matrix view (leading dimension ld >= cols; padded in shared memory).
+/// The condensed constraint matrix A = [I; P] and the prediction matrix P may instead
+/// be given by their repeating blocks (G != nullptr, p unused): with move blocking,
+///   P(k, j) = G_(k-j) for j < M-1, j <= k;  P(k, M-1) = S_(k-M+1) for k >= M-1; else 0
+/// where G_l = A^l B and S_l = G_0 + ... + G_l (n x m each, row-major), after `eye`
+/// leading identity rows: 2 N n m numbers instead of (eye + N n) M m.
 template <class R>
 struct MatView {
   const R* p;
   int rows, cols, ld;
+  const R* G = nullptr;
+  const R* S = nullptr;
+  int eye = 0, bn = 0, bm = 0, bN = 0, bM = 0;
 };
 
 /// Pointers to one problem's data (global or shared memory).
@@ -59,9 +67,10 @@ struct SlotView {
 };
 
 /// The view of a problem whose arrays `where(vector)` places (host: the vectors' own
-/// data; device: their device copies), every matrix with ld = cols.
+/// data; device: their device copies), every matrix with ld = cols; A and P in their
+/// block form when `block_form` and the problem has it.
 template <class R, class Where>
-ProblemView<R> view_of(const BasicAdmmProblem<R>& p, Where where) {
+ProblemView<R> view_of(const BasicAdmmProblem<R>& p, Where where, bool block_form = false) {
   ProblemView<R> v;
   v.nz = p.nz;
   v.nc = p.nc;
@@ -83,6 +92,15 @@ ProblemView<R> view_of(const BasicAdmmProblem<R>& p, Where where) {
   v.hi0 = where(p.hi0);
   v.rho_vec = where(p.rho_vec);
   v.P = MatView<R>{where(p.P), L, p.nz, p.nz};
+  if (block_form && !p.Gblk.empty()) {  // the block forms of A = [I; P] and P
+    v.A.G = v.P.G = where(p.Gblk);
+    v.A.S = v.P.S = where(p.Sblk);
+    v.A.eye = p.nz;
+    v.A.bn = v.P.bn = p.n;
+    v.A.bm = v.P.bm = p.m;
+    v.A.bN = v.P.bN = p.N;
+    v.A.bM = v.P.bM = p.M;
+  }
   v.Q = MatView<R>{where(p.Q), L, p.nx, p.nx};
   v.H1inv = MatView<R>{where(p.H1inv), p.nz, p.nz, p.nz};
   v.H2last = MatView<R>{where(p.H2last), p.n, p.n, p.n};
@@ -122,10 +140,48 @@ template <class R>
 TMPC_TEAM_FN bool finite(R v) { return v - v == 0.0f; }
 template <class R>
 TMPC_TEAM_FN R dot_row(const MatView<R>& A, int i, const R* x) {
+  if (A.G != nullptr) {  // block form
+    if (i < A.eye) return x[i];
+    const int r = i - A.eye, k = r / A.bn, s = r % A.bn, bsz = A.bn * A.bm;
+    R acc = 0.0f;
+    for (int j = 0; j < A.bM; ++j) {
+      const R* blk = nullptr;
+      if (j < A.bM - 1) {
+        if (j <= k) blk = A.G + (k - j) * bsz;
+      } else if (k >= A.bM - 1) {
+        blk = A.S + (k - A.bM + 1) * bsz;
+      }
+      if (blk == nullptr) continue;
+      const R* row = blk + s * A.bm;
+      const R* xj = x + j * A.bm;
+      for (int c = 0; c < A.bm; ++c) acc += row[c] * xj[c];
+    }
+    return acc;
+  }
   const R* r = A.p + static_cast<long>(i) * A.ld;
   R s = 0.0f;
   for (int j = 0; j < A.cols; ++j) s += r[j] * x[j];
   return s;
+}
+
+/// Column c of the block form times the rows [eye + k n, eye + (k+1) n) of v,
+/// summed over k = first, first + step, ... (the part of (A'v)_c those rows give).
+template <class R>
+TMPC_TEAM_FN R block_column_dot(const MatView<R>& A, int c, const R* v, int first, int step) {
+  const int j = c / A.bm, col = c % A.bm, bsz = A.bn * A.bm;
+  R acc = 0.0f;
+  for (int k = first; k < A.bN; k += step) {
+    const R* blk = nullptr;
+    if (j < A.bM - 1) {
+      if (j <= k) blk = A.G + (k - j) * bsz;
+    } else if (k >= A.bM - 1) {
+      blk = A.S + (k - A.bM + 1) * bsz;
+    }
+    if (blk == nullptr) continue;
+    const R* vk = v + A.eye + k * A.bn;
+    for (int s = 0; s < A.bn; ++s) acc += blk[s * A.bm + col] * vk[s];
+  }
+  return acc;
 }
 
 /// out = A' v: members split (column, row chunk) pairs, partial sums in scratch.
@@ -137,7 +193,12 @@ TMPC_TEAM_FN void gemv_t(Team& t, const MatView<R>& A, const R* v, R* out, R* sc
   for (int p = t.rank; p < cols * chunks; p += t.size) {
     const int j = p % cols, c = p / cols;
     R s = 0.0f;
-    for (int i = c; i < A.rows; i += chunks) s += A.p[static_cast<long>(i) * A.ld + j] * v[i];
+    if (A.G != nullptr) {  // block form: chunks split the block rows; chunk 0 adds the identity rows
+      s = block_column_dot(A, j, v, c, chunks);
+      if (c == 0 && j < A.eye) s += v[j];
+    } else {
+      for (int i = c; i < A.rows; i += chunks) s += A.p[static_cast<long>(i) * A.ld + j] * v[i];
+    }
     scratch[p] = s;
   }
   t.sync();

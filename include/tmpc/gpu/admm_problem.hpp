@@ -52,6 +52,9 @@ struct BasicAdmmProblem {
   std::vector<R> H, f0, F, A, E, lo0, hi0, rho_vec, Kinv;
   // thesis
   std::vector<R> P, Q, H1inv, H2diag, H2last, xlo, xhi, ulo, uhi;
+  // Optional block form of P (and A = [I; P]): G_l = A^l B, S_l = G_0 + ... + G_l,
+  // l = 0..N-1, n x m row-major each (tmpc/gpu/admm_kernel.hpp, MatView)
+  std::vector<R> Gblk, Sblk;
 
   /// Empty string when sizes agree, else what is wrong.
   const char* check() const {
@@ -66,6 +69,8 @@ struct BasicAdmmProblem {
         H2diag.size() != static_cast<std::size_t>(n) || H2last.size() != static_cast<std::size_t>(n) * n ||
         xlo.size() != s || xhi.size() != s || ulo.size() != z || uhi.size() != z)
       return "thesis-variant arrays have the wrong sizes";
+    const std::size_t blocks = static_cast<std::size_t>(N) * n * m;
+    if (!Gblk.empty() && (Gblk.size() != blocks || Sblk.size() != blocks)) return "block form has the wrong sizes";
     return "";
   }
 };
