@@ -190,7 +190,19 @@ bool AdmmDevice::Impl::setup_unfused() {
     return false;
   if (!check(cudaMemset(u.have_previous, 0, sizeof(int)), "cudaMemset")) return false;
   if (!host_alloc_pinned(h_res, 8) || !host_alloc_pinned(h_graph_z, n)) return false;
+#if CUDART_VERSION >= 11040
+  // cuBLAS must not allocate inside a stream capture: give it its workspace now.
+  float* workspace = nullptr;
+  const std::size_t workspace_bytes = 4u << 20;
+  if (!alloc(workspace, workspace_bytes / sizeof(float), "cudaMalloc cuBLAS workspace") ||
+      !check(cublasSetWorkspace(cublas, workspace, workspace_bytes), "cublasSetWorkspace"))
+    return false;
+#endif
   if (options.graph_iterations > 0) {
+    // One eager pass first (library initialization happens outside the capture).
+    if (!check(cudaMemsetAsync(u.x0, 0, p.nx * sizeof(float), stream), "cudaMemsetAsync") || !enqueue_start(*this) ||
+        !enqueue_iteration(*this) || !enqueue_residuals(*this) || !check(cudaStreamSynchronize(stream), "warm-up"))
+      return false;
     // Capture: upload, instance and start, a fixed number of iterations, the
     // residuals, the warm-start memory and the download, replayed per solve.
     if (!check(cudaStreamBeginCapture(stream, cudaStreamCaptureModeThreadLocal), "cudaStreamBeginCapture")) return false;
