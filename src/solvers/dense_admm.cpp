@@ -62,7 +62,8 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   polish_ = ActiveSetPolish(static_cast<int>(n), static_cast<int>(m));
   for (std::vector<int>* v : {&tried_rows_, &seen_rows_}) v->reserve(static_cast<std::size_t>(n));
   for (std::vector<double>* v : {&tried_signs_, &seen_signs_}) v->reserve(static_cast<std::size_t>(n));
-  for (Eigen::VectorXd* v : {&z_, &y_, &zh_, &yh_, &zprev_, &yprev_, &zt_, &yhalf_, &tmp_m_, &Ax_, &los_, &his_}) v->setZero(m);
+  for (Eigen::VectorXd* v : {&z_, &y_, &zh_, &yh_, &zprev_, &yprev_, &zt_, &yhalf_, &tmp_m_, &Ax_, &los_, &his_, &y_check_, &dy_})
+    v->setZero(m);
 }
 
 void DenseAdmm::factor() {
@@ -105,6 +106,21 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   z_ = z_.cwiseMax(lo).cwiseMin(hi);
   zt_ = z_;
   return true;
+}
+
+bool DenseAdmm::primal_infeasible(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  dy_ = y_ - y_check_;
+  y_check_ = y_;
+  const double norm = inf_norm(dy_);
+  if (opt_.eps_pinf <= 0.0 || !(norm > 1e-12)) return false;
+  tmp_n_.noalias() = At_ * dy_;
+  if (inf_norm(tmp_n_) > opt_.eps_pinf * norm) return false;
+  double support = 0.0;  // hi'max(dy, 0) + lo'min(dy, 0); an infinite bound in the way: no certificate
+  for (Eigen::Index i = 0; i < dy_.size(); ++i) {
+    if (dy_(i) > 0.0) support += hi(i) * dy_(i);
+    if (dy_(i) < 0.0) support += lo(i) * dy_(i);
+  }
+  return support <= -opt_.eps_pinf * norm;
 }
 
 bool DenseAdmm::crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool warm) {
@@ -186,6 +202,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   zprev_ = z_;
   yprev_ = y_;
   NesterovRestart nesterov;
+  y_check_ = y_;
   tried_rows_.clear();
   tried_signs_.clear();
   seen_rows_.clear();
@@ -265,6 +282,10 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     const double eps_d = opt_.eps_abs + opt_.eps_rel * std::max({inf_norm(Hx_), inf_norm(Aty_), f_norm});
     if (r_prim <= eps_p && r_dual <= eps_d) {
       res.status = SolveStatus::Converged;
+      break;
+    }
+    if (primal_infeasible(lo, hi)) {
+      res.status = SolveStatus::Infeasible;
       break;
     }
     if (opt_.polish && r_prim <= kPolishBand * eps_p && r_dual <= kPolishBand * eps_d && try_polish(f, lo, hi)) {

@@ -15,7 +15,8 @@
 // plus a cost scaling) and solved in scaled coordinates x~ = D^-1 x, z~ = E z,
 // y~ = c E^-1 y. Once the residuals are within 10x the tolerance, the active set
 // read from (z, y) is polished (an exact equality-constrained solve accepted only if
-// it is a KKT point), which ends the slow tail of ADMM (option `polish`).
+// it is a KKT point), which ends the slow tail of ADMM (option `polish`). An
+// infeasible instance ends with status Infeasible on OSQP's certificate (eps_pinf).
 #pragma once
 
 #include <vector>
@@ -49,6 +50,9 @@ class DenseAdmm {
   /// true (and x_, y_, z_ replaced) when that is a KKT point of the scaled problem.
   bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
+  /// OSQP's primal infeasibility certificate on dy = y - y(previous check):
+  /// ||A'dy|| <= eps ||dy|| and hi'max(dy, 0) + lo'min(dy, 0) <= -eps ||dy|| (inf-norms).
+  bool primal_infeasible(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   /// Crash start: the active set of the start point (cold: the unconstrained
   /// minimizer) polished with active-set steps; true when that is the KKT point.
   bool crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool warm);
@@ -65,6 +69,7 @@ class DenseAdmm {
   bool have_previous_ = false;
   // Workspace and memory (warm start).
   Eigen::VectorXd x_, z_, y_, zh_, yh_, zprev_, yprev_, xt_, zt_, yhalf_, rhs_, tmp_n_, tmp_m_, Ax_, Hx_, Aty_;
+  Eigen::VectorXd y_check_, dy_;      // y at the previous termination check, its change (infeasibility)
   Eigen::VectorXd fs_, los_, his_;    // scaled instance
   ActiveSetPolish polish_;            // the active-set guess
   std::vector<int> tried_rows_;       // the last guess that failed (capacity reserved)

@@ -118,6 +118,7 @@ gpu::AdmmSettings make_gpu_settings(const SolverOptions& o, int variant) {
 SolverOptions cpu_twin_options(SolverOptions o) {
   o.adaptive_rho = false;
   o.polish = false;
+  o.eps_pinf = 0.0;  // the device has no infeasibility certificate yet
   o.equilibrate = false;
   return o;
 }

@@ -26,7 +26,8 @@ enum class SolveStatus : int {
   TimeBudget,
   NumericalFailure,
   InvalidInput,  ///< x0 with the wrong size or non-finite entries
-  Infeasible,    ///< x0 outside the feasible set (explicit MPC: outside its partition)
+  Infeasible,    ///< x0 outside the feasible set (explicit MPC: outside its partition; exact
+                 ///< ADMM: a primal infeasibility certificate)
 };
 const char* to_string(SolveStatus s);
 
@@ -42,6 +43,8 @@ struct SolverOptions {
                                  ///< 4x fewer iterations than 1 on the case study, where most
                                  ///< state constraints are inactive)
   int check_every = 5;           ///< termination test every k iterations (it costs an A'y product)
+  double eps_pinf = 1e-4;        ///< exact ADMM: primal infeasibility certificate tolerance
+                                 ///< (OSQP's test on the change of y; 0: off)
   bool adaptive_rho = true;      ///< OSQP-style rebalancing of rho every 25 iterations (refactors, no allocation)
   double sigma = 1e-6;           ///< proximal term on z (exact variant)
   bool equilibrate = false;      ///< Ruiz scaling at set-up (measured ~6x more cold iterations on
