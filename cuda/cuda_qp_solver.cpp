@@ -23,6 +23,7 @@ SolveStatus status_of(int s) {
     case gpu::kMaxIterations: return SolveStatus::MaxIterations;
     case gpu::kTimeBudget: return SolveStatus::TimeBudget;
     case gpu::kInvalidInput: return SolveStatus::InvalidInput;
+    case gpu::kInfeasible: return SolveStatus::Infeasible;
     default: return SolveStatus::NumericalFailure;
   }
 }

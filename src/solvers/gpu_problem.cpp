@@ -110,6 +110,7 @@ gpu::AdmmSettings make_gpu_settings(const SolverOptions& o, int variant) {
   s.nesterov = variant == gpu::kThesis || o.nesterov ? 1 : 0;
   s.eta = static_cast<float>(o.eta);
   s.sigma = static_cast<float>(o.sigma);
+  s.eps_pinf = static_cast<float>(o.eps_pinf);
   s.warm_start = o.warm_start ? 1 : 0;
   s.time_budget_ns = static_cast<long long>(o.time_budget_us * 1e3);
   return s;
@@ -118,7 +119,6 @@ gpu::AdmmSettings make_gpu_settings(const SolverOptions& o, int variant) {
 SolverOptions cpu_twin_options(SolverOptions o) {
   o.adaptive_rho = false;
   o.polish = false;
-  o.eps_pinf = 0.0;  // the device has no infeasibility certificate yet
   o.equilibrate = false;
   return o;
 }

@@ -119,7 +119,7 @@ inline int state_floats(int nz, int nc, int N, int n) {
 /// Workspace Rs a solve needs for a team of `size` members (plus 0 for reductions).
 inline int workspace_floats(int nz, int nc, int N, int n, int size) {
   const int L = N * n;
-  const int exact = 7 * nz + 10 * nc;
+  const int exact = 7 * nz + 11 * nc;
   const int thesis = 2 * nz + 10 * L;
   const int scratch = (nz > size ? nz : size) + 1;
   return (exact > thesis ? exact : thesis) + scratch;
@@ -277,7 +277,8 @@ TMPC_TEAM_FN void admm_exact(Team& t, const ProblemView<R>& P, const AdmmSetting
   R* lo = zt + m;
   R* hi = lo + m;
   R* tm = hi + m;
-  R* scratch = tm + m;
+  R* ychk = tm + m;  // y at the previous check (infeasibility certificate)
+  R* scratch = ychk + m;
   const long long t0 = t.now_ns();
 
   // Instance: f = f0 + F x0, bounds lo0 - E x0, hi0 - E x0.
@@ -302,7 +303,7 @@ TMPC_TEAM_FN void admm_exact(Team& t, const ProblemView<R>& P, const AdmmSetting
     if (warm) v = i < n ? shifted(zs, i, 0, P.m, P.M) : shifted(zs, i, n, P.n, P.N);
     v = clampf(v, lo[i], hi[i]);
     z[i] = zh[i] = zp[i] = v;
-    y[i] = yh[i] = yp[i] = 0.0f;
+    y[i] = yh[i] = yp[i] = ychk[i] = 0.0f;
   }
   t.sync();
 
@@ -393,6 +394,28 @@ TMPC_TEAM_FN void admm_exact(Team& t, const ProblemView<R>& P, const AdmmSetting
     if (r_prim <= eps_p && r_dual <= eps_d) {
       status = kConverged;
       break;
+    }
+    if (S.eps_pinf > 0.0f) {
+      // OSQP's primal infeasibility certificate on dy = y - y(previous check):
+      // ||A'dy|| <= eps ||dy|| and hi'max(dy, 0) + lo'min(dy, 0) <= -eps ||dy||.
+      R dmax = 0.0f, support = 0.0f;
+      for (int i = rk; i < m; i += sz) {
+        const R d = y[i] - ychk[i];
+        tm[i] = d;
+        ychk[i] = y[i];
+        dmax = nan_max(dmax, absf(d));
+        if (d > 0.0f) support += hi[i] * d;
+        if (d < 0.0f) support += lo[i] * d;
+      }
+      t.sync();
+      gemv_t(t, P.A, tm, tn, scratch);
+      R atd = 0.0f;
+      for (int j = rk; j < n; j += sz) atd = nan_max(atd, absf(tn[j]));
+      const R dn = t.max(dmax), an = t.max(atd), sp = t.sum(support);
+      if (dn > R(1e-12) && an <= S.eps_pinf * dn && sp <= -S.eps_pinf * dn) {
+        status = kInfeasible;
+        break;
+      }
     }
     if (over_budget(t, t0, S)) {
       status = kTimeBudget;

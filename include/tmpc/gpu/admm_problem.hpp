@@ -24,6 +24,7 @@ enum Status : int {
   kTimeBudget = 2,
   kNumericalFailure = 3,
   kInvalidInput = 4,
+  kInfeasible = 5,
 };
 
 struct AdmmSettings {
@@ -35,6 +36,7 @@ struct AdmmSettings {
   int nesterov = 0;            ///< exact variant: extrapolation (4.29)-(4.31) (thesis: always)
   float eta = 0.999f;          ///< restart factor of Algorithm 4.2
   float sigma = 1e-6f;         ///< proximal term on z (exact)
+  float eps_pinf = 1e-4f;      ///< exact: primal infeasibility certificate tolerance (0: off)
   int warm_start = 1;          ///< shift the previous solution one step
   long long time_budget_ns = 0;  ///< 0: none; checked inside the iteration loop
 };

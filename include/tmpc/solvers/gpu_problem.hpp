@@ -23,7 +23,7 @@ gpu::BasicAdmmProblem<double> make_gpu_problem_fp64(const MpcQpData& d, const So
 gpu::AdmmSettings make_gpu_settings(const SolverOptions& options, int variant);
 
 /// CPU options whose iterates the GPU's exact variant reproduces (float aside):
-/// adaptive_rho, polish and the infeasibility certificate off, no equilibration.
+/// adaptive_rho and polish off, no equilibration.
 SolverOptions cpu_twin_options(SolverOptions options);
 
 }  // namespace tmpc
