@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include "admm_device.hpp"
+#include "bench_main.hpp"
 #include "case_study.hpp"
 #include "device_info.hpp"
 #include "tmpc/solvers/gpu_problem.hpp"
@@ -203,10 +204,4 @@ void register_all() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  register_all();
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return bench_case::run_registered(argc, argv, register_all); }

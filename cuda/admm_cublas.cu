@@ -247,7 +247,7 @@ bool AdmmDevice::solve_cublas(const float* x0) {
   const gpu::AdmmProblem& p = im.problem;
   const gpu::AdmmSettings& s = im.settings;
   const long long t0 = host_ns();
-  im.running_graph = true;  // z() and copy_multipliers() read this path's buffers
+  im.unfused_result = true;  // z() and copy_multipliers() read this path's buffers
   im.graph_started = false;
   im.last.status = gpu::kNumericalFailure;
   std::memcpy(im.h_x0, x0, p.nx * sizeof(float));
@@ -292,7 +292,7 @@ bool AdmmDevice::start_graph(const float* x0) {
     return false;
   }
   std::memcpy(im.h_x0, x0, im.problem.nx * sizeof(float));
-  im.running_graph = true;
+  im.unfused_result = true;
   im.graph_started = true;
   im.last.status = gpu::kNumericalFailure;
   return im.check(cudaGraphLaunch(im.graph, im.stream), "cudaGraphLaunch") &&

@@ -191,7 +191,7 @@ int AdmmDevice::fused_shared_bytes() const { return impl_->smem_fused; }
 bool AdmmDevice::fused_matrices_staged() const { return impl_->stage_fused; }
 bool AdmmDevice::fused_block_form() const { return impl_->block_fused; }
 const gpu::AdmmOutcome& AdmmDevice::outcome() const { return impl_->last; }
-const float* AdmmDevice::z() const { return impl_->running_graph ? impl_->h_graph_z : impl_->h_z; }
+const float* AdmmDevice::z() const { return impl_->unfused_result ? impl_->h_graph_z : impl_->h_z; }
 
 bool AdmmDevice::start(const float* x0) {
   Impl& im = *impl_;
@@ -204,7 +204,7 @@ bool AdmmDevice::start(const float* x0) {
   const int s = im.options.max_batch;  // the single-solve slot
   const SlotArrays slot{im.d_state + static_cast<long>(s) * im.state_stride, im.d_have_previous + s, im.m_outcome, im.m_z,
                         im.d_y + static_cast<long>(s) * im.problem.nc, im.state_stride};
-  im.running_graph = false;
+  im.unfused_result = false;
   im.graph_started = false;
   im.last.status = gpu::kNumericalFailure;
   if (!im.launch_fused(im.m_x0, 1, slot, false)) return false;
@@ -245,7 +245,7 @@ bool AdmmDevice::wait() {
 
 bool AdmmDevice::copy_multipliers(float* y) {
   Impl& im = *impl_;
-  const float* src = im.running_graph ? im.u.y : im.d_y + static_cast<long>(im.options.max_batch) * im.problem.nc;
+  const float* src = im.unfused_result ? im.u.y : im.d_y + static_cast<long>(im.options.max_batch) * im.problem.nc;
   return im.check(cudaMemcpy(y, src, static_cast<std::size_t>(im.problem.nc) * sizeof(float), cudaMemcpyDeviceToHost),
                   "cudaMemcpy multipliers");
 }

@@ -70,7 +70,7 @@ struct AdmmDevice::Impl {
   float* h_graph_z = nullptr;
   cudaGraphExec_t graph = nullptr;
   cudaGraph_t graph_def = nullptr;
-  bool running_graph = false;  // the last solve ran on the unfused buffers (cuBLAS or graph path)
+  bool unfused_result = false;  // the last solve ran on the unfused buffers (cuBLAS or graph path)
   bool graph_started = false;  // query()/wait() finish a graph launch
 
   bool check(cudaError_t e, const char* what);

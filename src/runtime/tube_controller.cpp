@@ -9,6 +9,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
   x_bar_ = Eigen::VectorXd::Zero(a.n);
   x_n_ = Eigen::VectorXd::Zero(a.n);
   e_ = Eigen::VectorXd::Zero(a.n);
+  dev_ = Eigen::VectorXd::Zero(a.n);
   next_ = Eigen::VectorXd::Zero(a.n);
   z_half_ = a.Z.radius();
   out_.x_bar = Eigen::VectorXd::Zero(a.n);
@@ -34,9 +35,10 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde) {
   out_.in_state_box = a_.X.contains(x_n_);
   if (opt_.reinitialize_nominal && a_.x_bar.contains(x_n_)) x_bar_ = x_n_;
   e_ = x_n_ - x_bar_;
-  out_.in_tube = ((e_ - a_.Z.c).cwiseAbs().array() <= z_half_.array() + 1e-12).all();
+  dev_ = (e_ - a_.Z.c).cwiseAbs();  // distance from Z's centre, per state
+  out_.in_tube = (dev_.array() <= z_half_.array() + 1e-12).all();
   Eigen::Index worst = 0;
-  out_.tube_ratio = ((e_ - a_.Z.c).cwiseAbs().array() / (z_half_.array() + 1e-300)).maxCoeff(&worst);
+  out_.tube_ratio = (dev_.array() / (z_half_.array() + 1e-300)).maxCoeff(&worst);
   out_.tube_worst = static_cast<int>(worst);
   out_.x_bar = x_bar_;
   return x_bar_;

@@ -4,7 +4,7 @@
 
 #include <Eigen/Dense>
 
-#include "nesterov_restart.hpp"
+#include "tmpc/gpu/nesterov_restart.hpp"
 #include "solvers_internal.hpp"
 
 namespace tmpc::detail {
@@ -68,7 +68,7 @@ const SolveResult& AdmmThesis::solve(const Eigen::VectorXd& x0) {
   lame_ = lam_;
   xprev_ = x_;
   lamprev_ = lam_;
-  NesterovRestart nesterov;
+  gpu::NesterovRestart<double> nesterov;  // shared with the GPU kernel
   res_.restarts = 0;
   res_.status = SolveStatus::MaxIterations;
   int k = 1;

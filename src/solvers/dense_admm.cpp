@@ -1,7 +1,7 @@
 // The exact ADMM machinery (see dense_admm.hpp).
 #include "dense_admm.hpp"
 
-#include "nesterov_restart.hpp"
+#include "tmpc/gpu/nesterov_restart.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -94,6 +94,10 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   if (polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;
   tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
   tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
+  return solve_guess(f, lo, hi);
+}
+
+bool DenseAdmm::solve_guess(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
   bool ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
   // A wrong guess: a few primal-dual active-set steps from its point.
   for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
@@ -147,17 +151,7 @@ bool DenseAdmm::crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const
     polish_.add(static_cast<int>(worst), Ax_(worst) > hi(worst) - 1e-9);
     Ax_(worst) = 0.5 * (lo(worst) + hi(worst));  // taken
   }
-  bool ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
-  for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
-    ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
-  }
-  if (!ok) return false;
-  x_ = xp_;
-  y_ = yp_;
-  z_.noalias() = A_ * x_;
-  z_ = z_.cwiseMax(lo).cwiseMin(hi);
-  zt_ = z_;
-  return true;
+  return solve_guess(f, lo, hi);
 }
 
 void DenseAdmm::shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs) {
@@ -201,7 +195,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   yh_ = y_;
   zprev_ = z_;
   yprev_ = y_;
-  NesterovRestart nesterov;
+  gpu::NesterovRestart<double> nesterov;  // shared with the GPU kernel
   y_check_ = y_;
   tried_rows_.clear();
   tried_signs_.clear();

@@ -50,6 +50,9 @@ class DenseAdmm {
   /// true (and x_, y_, z_ replaced) when that is a KKT point of the scaled problem.
   bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
+  /// Solve the guessed active set in polish_ (with up to polish_refine active-set steps);
+  /// true (and x_, y_, z_ replaced) when that gives a KKT point.
+  bool solve_guess(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   /// OSQP's primal infeasibility certificate on dy = y - y(previous check):
   /// ||A'dy|| <= eps ||dy|| and hi'max(dy, 0) + lo'min(dy, 0) <= -eps ||dy|| (inf-norms).
   bool primal_infeasible(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);

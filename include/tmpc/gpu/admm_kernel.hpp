@@ -17,15 +17,8 @@
 // thesis (Algorithm 4.3 with E2 fixed; the CPU "admm-thesis"): see admm_problem.hpp.
 #pragma once
 
-#include <math.h>  // sqrtf, sqrt on the host (built into device code)
-
 #include "tmpc/gpu/admm_problem.hpp"
-
-#if defined(__CUDACC__)
-#define TMPC_TEAM_FN __device__ __forceinline__
-#else
-#define TMPC_TEAM_FN inline
-#endif
+#include "tmpc/gpu/nesterov_restart.hpp"  // also defines TMPC_TEAM_FN
 
 namespace tmpc {
 namespace gpu {
@@ -127,8 +120,6 @@ inline int workspace_floats(int nz, int nc, int N, int n, int size) {
 
 namespace detail {
 
-TMPC_TEAM_FN float sqrt_of(float v) { return sqrtf(v); }
-TMPC_TEAM_FN double sqrt_of(double v) { return sqrt(v); }
 template <class R>
 TMPC_TEAM_FN R clampf(R v, R lo, R hi) { return v < lo ? lo : (v > hi ? hi : v); }
 /// max that keeps a NaN (fmaxf drops it, and a NaN must end the solve).
@@ -225,31 +216,28 @@ TMPC_TEAM_FN R shifted(const R* old, int i, int offset, int block, int count) {
   return k < (count - 1) * block ? old[i + block] : old[i];
 }
 
-/// Nesterov's sequence (4.31) with the restart of Algorithm 4.2 (nesterov_restart.hpp).
-template <class R>
-struct Nesterov {
-  R a = 1, c_prev = R(3.0e38f);
-  TMPC_TEAM_FN bool accept(R c, R eta, R& beta) {
-    if (c < eta * c_prev) {
-      const R a_next = 0.5f * (1.0f + sqrt_of(1.0f + 4.0f * a * a));
-      beta = (a - 1.0f) / a_next;
-      a = a_next;
-      c_prev = c;
-      return true;
-    }
-    a = 1.0f;
-    c_prev /= eta;
-    beta = 0.0f;
-    return false;
-  }
-};
-
 /// True on every member when rank 0's clock says the budget is spent.
 template <class Team>
 TMPC_TEAM_FN bool over_budget(Team& t, long long t0, const AdmmSettings& s) {
   if (s.time_budget_ns <= 0) return false;
   const float over = (t.rank == 0 && t.now_ns() - t0 > s.time_budget_ns) ? 1.0f : 0.0f;
   return t.max(over) > 0.5f;
+}
+
+/// The outcome of a solve (by rank 0) and whether the next may start warm; ends with
+/// a barrier.
+template <class Team, class R>
+TMPC_TEAM_FN void report(Team& t, const SlotView<R>& slot, const AdmmSettings& S, int status, int k, int restarts,
+                         R primal, R dual) {
+  if (t.rank == 0) {
+    slot.outcome->status = status;
+    slot.outcome->iterations = k < S.max_iterations ? k : S.max_iterations;
+    slot.outcome->restarts = restarts;
+    slot.outcome->primal_residual = primal;
+    slot.outcome->dual_residual = dual;
+    *slot.have_previous = status != kNumericalFailure ? 1 : 0;
+  }
+  t.sync();
 }
 
 }  // namespace detail
@@ -307,7 +295,7 @@ TMPC_TEAM_FN void admm_exact(Team& t, const ProblemView<R>& P, const AdmmSetting
   }
   t.sync();
 
-  Nesterov<R> nest;
+  NesterovRestart<R> nest;
   int status = kMaxIterations, restarts = 0, k = 1;
   R r_prim = 0.0f, r_dual = 0.0f;
   for (; k <= S.max_iterations; ++k) {
@@ -431,15 +419,7 @@ TMPC_TEAM_FN void admm_exact(Team& t, const ProblemView<R>& P, const AdmmSetting
     slot.state[n + i] = z[i];
     if (slot.y_out != nullptr) slot.y_out[i] = y[i];
   }
-  if (rk == 0) {
-    slot.outcome->status = status;
-    slot.outcome->iterations = k < S.max_iterations ? k : S.max_iterations;
-    slot.outcome->restarts = restarts;
-    slot.outcome->primal_residual = r_prim;
-    slot.outcome->dual_residual = r_dual;
-    *slot.have_previous = status != kNumericalFailure ? 1 : 0;
-  }
-  t.sync();
+  report(t, slot, S, status, k, restarts, r_prim, r_dual);
 }
 
 /// One solve of the thesis variant (Algorithm 4.3) by a team.
@@ -476,7 +456,7 @@ TMPC_TEAM_FN void admm_thesis(Team& t, const ProblemView<R>& P, const AdmmSettin
     lame[i] = lamp[i] = lam[i];
   }
   t.sync();
-  Nesterov<R> nest;
+  NesterovRestart<R> nest;
   int status = kMaxIterations, restarts = 0, k = 1;
   R primal = 0.0f, dual = 0.0f;
   for (; k <= S.max_iterations; ++k) {
@@ -559,15 +539,7 @@ TMPC_TEAM_FN void admm_thesis(Team& t, const ProblemView<R>& P, const AdmmSettin
   if (slot.y_out != nullptr) {
     for (int i = rk; i < P.nc; i += sz) slot.y_out[i] = 0.0f;  // the thesis variant has no QP multipliers
   }
-  if (rk == 0) {
-    slot.outcome->status = status;
-    slot.outcome->iterations = k < S.max_iterations ? k : S.max_iterations;
-    slot.outcome->restarts = restarts;
-    slot.outcome->primal_residual = primal;
-    slot.outcome->dual_residual = dual;
-    *slot.have_previous = status != kNumericalFailure ? 1 : 0;
-  }
-  t.sync();
+  report(t, slot, S, status, k, restarts, primal, dual);
 }
 
 }  // namespace gpu

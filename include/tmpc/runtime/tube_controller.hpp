@@ -64,7 +64,7 @@ class TubeController {
   const ControllerArtifact& a_;
   std::unique_ptr<QpSolver> solver_;
   TubeControllerOptions opt_;
-  Eigen::VectorXd x_bar_, x_n_, e_, z_half_, next_;
+  Eigen::VectorXd x_bar_, x_n_, e_, dev_, z_half_, next_;
   Eigen::Vector4d u_min_, u_max_;
   ControlStep out_;
   long clipped_ = 0, fallbacks_ = 0;
