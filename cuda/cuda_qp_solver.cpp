@@ -134,13 +134,21 @@ std::vector<SolveResult> batch(const MpcQpData& d, const SolverOptions& o, const
 std::unique_ptr<QpSolver> make_exact(const MpcQpData& d, const SolverOptions& o) {
   return std::make_unique<CudaQpSolver>(d, o, gpu::kExact, "admm-cuda");
 }
+void thesis_needs_fixed_sets(const MpcQpData& d) {
+  // The thesis kernel keeps its boxes on the device; the offset-free form moves them
+  // every period (mpc_qp.hpp), which only the exact variant does (through E).
+  if (d.disturbances() > 0)
+    throw std::invalid_argument("admm-cuda-thesis: no offset-free form (its sets are fixed on the device); use admm-cuda");
+}
 std::unique_ptr<QpSolver> make_thesis(const MpcQpData& d, const SolverOptions& o) {
+  thesis_needs_fixed_sets(d);
   return std::make_unique<CudaQpSolver>(d, o, gpu::kThesis, "admm-cuda-thesis");
 }
 std::vector<SolveResult> batch_exact(const MpcQpData& d, const SolverOptions& o, const std::vector<Eigen::VectorXd>& x0s) {
   return batch(d, o, x0s, gpu::kExact, "admm-cuda");
 }
 std::vector<SolveResult> batch_thesis(const MpcQpData& d, const SolverOptions& o, const std::vector<Eigen::VectorXd>& x0s) {
+  thesis_needs_fixed_sets(d);
   return batch(d, o, x0s, gpu::kThesis, "admm-cuda-thesis");
 }
 

@@ -64,6 +64,23 @@ MpcQpData build_mpc_qp(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const
   return d;
 }
 
+void make_offset_free(MpcQpData& d, const Eigen::MatrixXd& Tx, const Eigen::MatrixXd& Tu) {
+  if (Tx.rows() != d.n || Tu.rows() != d.m || Tx.cols() != Tu.cols() || Tx.cols() == 0) {
+    throw std::invalid_argument("make_offset_free: Tx (" + std::to_string(Tx.rows()) + "x" + std::to_string(Tx.cols()) +
+                                ") and Tu (" + std::to_string(Tu.rows()) + "x" + std::to_string(Tu.cols()) +
+                                ") disagree with n = " + std::to_string(d.n) + ", m = " + std::to_string(d.m));
+  }
+  d.Tx = Tx;
+  d.Tu = Tu;
+  // x(i) picks up (I + A + ... + A^(i-1)) c.
+  d.Phi = Eigen::MatrixXd(d.N * d.n, d.n);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Identity(d.n, d.n);
+  for (int i = 0; i < d.N; ++i) {
+    d.Phi.middleRows(i * d.n, d.n) = S;
+    S = Eigen::MatrixXd::Identity(d.n, d.n) + d.A * S;
+  }
+}
+
 CondensedQp condensed_qp(const MpcQpData& d, const Eigen::VectorXd& x0) {
   if (x0.size() != d.n) {
     throw std::invalid_argument("condensed_qp: x0 has " + std::to_string(x0.size()) + " entries, expected " +

@@ -31,18 +31,33 @@ AdmmCz::AdmmCz(const MpcQpData& d, const ParametricQp& polytope, const SolverOpt
   cz_.H.bottomRightCorner(nzx, nzx) = 2.0 * Gx_full.transpose() * Wx * Gx_full;
   cz_.f0.resize(nzeta);
   cz_.f0 << 2.0 * Gu_full_.transpose() * Wu * cu_full_, 2.0 * Gx_full.transpose() * Wx * cx_full;
-  cz_.F = Eigen::MatrixXd::Zero(nzeta, n);
+  // Offset-free form (mpc_qp.hpp): the sets hold the nominal u_hat = c_u + G_u zeta_u and
+  // x_hat = c_x + G_x zeta_x, the cost and the dynamics act on u_hat - U_s and
+    // x_hat - X_s (U_s, X_s: the stacked targets of d), which moves the linear term by
+  // -2 [G_u'W_u U_s; G_x'W_x X_s] and the dynamics right-hand side by X_s - P U_s + Phi c.
+  const int nd = d.disturbances();
+  const int np = d.parameters();
+  cz_.F = Eigen::MatrixXd::Zero(nzeta, np);
   // Rows: dynamics (4.44), the sets' equalities (4.39), (4.42), unit boxes (4.45).
   const int rows = N * n + M * cu + N * cx + nzeta;
   cz_.A = Eigen::MatrixXd::Zero(rows, nzeta);
-  cz_.E = Eigen::MatrixXd::Zero(rows, n);
+  cz_.E = Eigen::MatrixXd::Zero(rows, np);
   cz_.lo0.resize(rows);
   cz_.hi0.resize(rows);
   cz_.A.block(0, 0, N * n, nzu) = -d.P * Gu_full_;
   cz_.A.block(0, nzu, N * n, nzx) = Gx_full;
   cz_.lo0.head(N * n) = d.P * cu_full_ - cx_full;  // + Q x0 through E = -Q
   cz_.hi0.head(N * n) = cz_.lo0.head(N * n);
-  cz_.E.topRows(N * n) = -d.Q;
+  cz_.E.block(0, 0, N * n, n) = -d.Q;
+  if (nd > 0) {
+    Eigen::MatrixXd Us(M * m, nd), Xs(N * n, nd);
+    for (int i = 0; i < M; ++i) Us.middleRows(i * m, m) = d.Tu;
+    for (int i = 0; i < N; ++i) Xs.middleRows(i * n, n) = d.Tx;
+    cz_.E.block(0, n, N * n, nd) = d.P * Us - Xs;  // lo = lo0 - E x0
+    cz_.E.block(0, n + nd, N * n, n) = -d.Phi;      // x_hat picks up Phi c
+    cz_.F.block(0, n, nzu, nd) = -2.0 * Gu_full_.transpose() * Wu * Us;
+    cz_.F.block(nzu, n, nzx, nd) = -2.0 * Gx_full.transpose() * Wx * Xs;
+  }
   int r = N * n;
   for (int i = 0; i < M; ++i, r += cu) {
     cz_.A.block(r, i * gu, cu, gu) = U.A;
@@ -64,6 +79,12 @@ AdmmCz::AdmmCz(const MpcQpData& d, const ParametricQp& polytope, const SolverOpt
                                       std::vector<ShiftSegment>{{0, gu, M}, {nzu, gx, N}},
                                       std::vector<ShiftSegment>{{0, n, N}, {N * n + M * cu + N * cx, gu, M},
                                                                 {N * n + M * cu + N * cx + nzu, gx, N}});
+  nd_ = nd;
+  n_ = n;
+  M_ = M;
+  m_ = m;
+  Tu_ = d.Tu;
+  us_.setZero(m);
   f_.resize(nzeta);
   lo_.resize(rows);
   hi_.resize(rows);
@@ -81,8 +102,12 @@ const SolveResult& AdmmCz::solve(const Eigen::VectorXd& x0) {
   if (!valid_state(x0, cz_.nx(), res_)) return res_;
   cz_.instance_into(x0, f_, lo_, hi_);
   admm_->solve(f_, lo_, hi_, inner_);
-  // (4.47): u_hat = c_u + G_u zeta_u, for every step of the horizon.
+  // (4.47): u_hat = c_u + G_u zeta_u (- U_s), for every step of the horizon.
   res_.z = cu_full_;
+  if (nd_ > 0) {
+    us_.noalias() = Tu_ * x0.segment(n_, nd_);
+    for (int i = 0; i < M_; ++i) res_.z.segment(i * m_, m_) -= us_;
+  }
   res_.z.noalias() += Gu_full_ * inner_.z.head(Gu_full_.cols());
   res_.status = inner_.status;
   res_.iterations = inner_.iterations;

@@ -41,6 +41,16 @@ AdmmThesis::AdmmThesis(const MpcQpData& d, const ParametricQp& qp, const SolverO
     ulo_.segment(i * m_, m_) = d.u_bar.lo;
     uhi_.segment(i * m_, m_) = d.u_bar.hi;
   }
+  xlo0_ = xlo_;
+  xhi0_ = xhi_;
+  ulo0_ = ulo_;
+  uhi0_ = uhi_;
+  nd_ = d.disturbances();
+  Tx_ = d.Tx;
+  Tu_ = d.Tu;
+  Phi_ = d.Phi;
+  xs_.setZero(n_);
+  us_.setZero(m_);
   for (Eigen::VectorXd* v : {&x_, &lam_, &xe_, &lame_, &xprev_, &lamprev_, &Qx0_, &Pu_, &g_, &t_n_}) v->setZero(N_ * n_);
   for (Eigen::VectorXd* v : {&u_, &t_u_}) v->setZero(M_ * m_);
   f_.resize(qp.nz());
@@ -49,9 +59,22 @@ AdmmThesis::AdmmThesis(const MpcQpData& d, const ParametricQp& qp, const SolverO
 }
 
 const SolveResult& AdmmThesis::solve(const Eigen::VectorXd& x0) {
-  if (!valid_state(x0, n_, res_)) return res_;
+  if (!valid_state(x0, qp_.nx(), res_)) return res_;
   const double t0 = now_us();
-  Qx0_.noalias() = Q_ * x0;
+  Qx0_.noalias() = Q_ * x0.head(n_);
+  if (nd_ > 0) {  // the sets around the disturbance's steady state, the offset's response
+    Qx0_.noalias() += Phi_ * x0.tail(n_);
+    xs_.noalias() = Tx_ * x0.segment(n_, nd_);
+    us_.noalias() = Tu_ * x0.segment(n_, nd_);
+    for (int i = 0; i < N_; ++i) {
+      xlo_.segment(i * n_, n_) = xlo0_.segment(i * n_, n_) - xs_;
+      xhi_.segment(i * n_, n_) = xhi0_.segment(i * n_, n_) - xs_;
+    }
+    for (int i = 0; i < M_; ++i) {
+      ulo_.segment(i * m_, m_) = ulo0_.segment(i * m_, m_) - us_;
+      uhi_.segment(i * m_, m_) = uhi0_.segment(i * m_, m_) - us_;
+    }
+  }
   if (opt_.warm_start && have_previous_) {
     for (int k = 0; k + 1 < M_; ++k) u_.segment(k * m_, m_) = u_.segment((k + 1) * m_, m_);
     for (int k = 0; k + 1 < N_; ++k) {

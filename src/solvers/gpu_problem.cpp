@@ -53,7 +53,11 @@ gpu::BasicAdmmProblem<R> build(const MpcQpData& d, const SolverOptions& options)
   const double rt = options.rho > 0.0 ? options.rho : spectral_rho(qp.H, qp.A);
   p.rho_thesis = static_cast<R>(rt);
   p.P = flat<R>(d.P);
-  p.Q = flat<R>(d.Q);
+  // Q acts on the state part of x0 (the offset-free d part moves only the exact
+  // variant's bounds, through E; the thesis variant refuses that form).
+  Eigen::MatrixXd Qx = Eigen::MatrixXd::Zero(d.Q.rows(), qp.nx());
+  Qx.leftCols(d.n) = d.Q;
+  p.Q = flat<R>(Qx);
   p.H1inv = flat<R>(Eigen::MatrixXd((rt * d.P.transpose() * d.P + 2.0 * d.Wu()).inverse()));
   p.H2diag = flat<R>(Eigen::VectorXd((rt + 2.0 * d.Sigma_rho.diagonal().array()).inverse().matrix()));
   p.H2last = flat<R>(Eigen::MatrixXd((rt * Eigen::MatrixXd::Identity(d.n, d.n) + 2.0 * d.L).inverse()));

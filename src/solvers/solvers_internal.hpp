@@ -58,6 +58,9 @@ class AdmmThesis final : public QpSolver {
   SolverOptions opt_;
   double rho_;
   bool have_previous_ = false;
+  int nd_ = 0;                    // offset-free form: the boxes move with d (mpc_qp.hpp)
+  Eigen::MatrixXd Tx_, Tu_, Phi_;
+  Eigen::VectorXd xlo0_, xhi0_, ulo0_, uhi0_, xs_, us_;
   Eigen::VectorXd xlo_, xhi_, ulo_, uhi_;
   Eigen::VectorXd x_, u_, lam_, xe_, lame_, xprev_, lamprev_, Qx0_, Pu_, g_, t_n_, t_u_, f_;
   SolveResult res_;
@@ -88,6 +91,9 @@ class AdmmCz final : public QpSolver {
   Eigen::VectorXd cu_full_;
   std::unique_ptr<DenseAdmm> admm_;
   Eigen::VectorXd f_, lo_, hi_, fp_, tz_, lop_, hip_;
+  int nd_ = 0, n_ = 0, M_ = 0, m_ = 0;
+  Eigen::MatrixXd Tu_;
+  Eigen::VectorXd us_;
   SolveResult inner_, res_;
 };
 

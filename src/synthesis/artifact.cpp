@@ -9,8 +9,19 @@ namespace {
 constexpr FileMagic kMagic = {'T', 'M', 'P', 'C', 'A', 'R', 'T', '\0'};
 }  // namespace
 
-MpcQpData ControllerArtifact::qp() const {
-  return build_mpc_qp(A, B, Sigma_rho, Sigma_lambda, L, x_bar, u_bar, N, M);
+MpcQpData ControllerArtifact::qp(bool offset_free) const {
+  MpcQpData d = build_mpc_qp(A, B, Sigma_rho, Sigma_lambda, L, x_bar, u_bar, N, M);
+  if (offset_free) {
+    const DisturbanceTarget t = disturbance_target();
+    make_offset_free(d, t.Tx, t.Tu);
+  }
+  return d;
+}
+
+DisturbanceTarget ControllerArtifact::disturbance_target() const {
+  // Tracked errors x, y, z, psi and their integrals (states 20..23) at zero; the
+  // angles, the swing of the load and the inputs take up the force.
+  return steady_state_target(A, B, D, {kX, kY, kZ, kPsi, kNx, kNx + 1, kNx + 2, kNx + 3});
 }
 
 ControllerArtifact make_artifact(const ControllerDesign& d) {

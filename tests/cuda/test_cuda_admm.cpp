@@ -3,6 +3,7 @@
 // float solutions in double, failures as statuses. Every test skips, saying why,
 // on a machine without a usable CUDA device (as in CI).
 #include <cmath>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -198,6 +199,36 @@ TEST(CudaAdmm, BatchedThroughTheSolverRegistry) {
   }
   st.finish("registry batch");
   expect_parity(st);
+}
+
+TEST(CudaAdmm, OffsetFreeFormThroughTheSolverRegistry) {
+  REQUIRE_GPU();
+  register_cuda_solvers();
+  const MpcQpData d = case_study_artifact().qp(true);
+  SolverOptions o = cpu_twin_options(SolverOptions{});
+  o.warm_start = false;
+  auto gpu = make_solver("admm-cuda", d, o);
+  auto cpu = make_solver("admm", d, o);
+  ASSERT_EQ(gpu->problem().nx(), 24 + 3 + 24);
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  ParityStats st;
+  for (const Eigen::VectorXd& x0 : case_study_states(100, 22)) {
+    Eigen::VectorXd t = Eigen::VectorXd::Zero(51);
+    t << x0, u(rng), u(rng), u(rng), Eigen::VectorXd::Zero(24);
+    const SolveResult& c = cpu->solve(t);
+    const SolveResult g = gpu->solve(t);
+    st.add(*cpu, c, t, d.u_bar.hi - d.u_bar.lo, static_cast<int>(g.status), g.iterations, g.z, nullptr, o.check_every);
+  }
+  st.finish("offset-free fused");
+  expect_parity(st);
+}
+
+// Needs no device: the thesis kernel keeps its sets fixed, so it refuses the
+// offset-free form (whose sets move every period) before touching the GPU.
+TEST(CudaAdmm, ThesisSolverRefusesTheOffsetFreeForm) {
+  register_cuda_solvers();
+  EXPECT_THROW(make_solver("admm-cuda-thesis", case_study_artifact().qp(true)), std::invalid_argument);
 }
 
 TEST(CudaAdmm, CublasPathMatchesCpu) {

@@ -73,9 +73,9 @@ gpu::BasicAdmmProblem<double> problem_of(const MpcQpData& d, const SolverOptions
 /// Kernel code in precision R with `team` threads against the CPU twin on `states`.
 template <class R>
 ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& states, bool warm, bool block_form = false,
-                   int max_iterations = 0, int* infeasible = nullptr) {
+                   int max_iterations = 0, int* infeasible = nullptr, bool offset_free = false) {
   const ControllerArtifact& a = case_study_artifact();
-  const MpcQpData d = a.qp();
+  const MpcQpData d = a.qp(offset_free);
   SolverOptions o = cpu_twin_options(SolverOptions{});
   o.warm_start = warm;
   if (max_iterations > 0) o.max_iterations = max_iterations;
@@ -92,8 +92,8 @@ ParityStats parity(int variant, int team, const std::vector<Eigen::VectorXd>& st
     if (infeasible != nullptr) *infeasible += k.outcome().status == gpu::kInfeasible;
   }
   char what[128];
-  std::snprintf(what, sizeof what, "%s variant %d team %d warm %d%s", sizeof(R) == 4 ? "float" : "double", variant, team,
-                warm ? 1 : 0, block_form ? " block form" : "");
+  std::snprintf(what, sizeof what, "%s variant %d team %d warm %d%s%s", sizeof(R) == 4 ? "float" : "double", variant,
+                team, warm ? 1 : 0, block_form ? " block form" : "", offset_free ? " offset-free" : "");
   st.finish(what);
   return st;
 }
@@ -106,6 +106,22 @@ TEST(GpuKernelOnHost, ExactVariantMatchesCpuTwinOnFiveHundredQps) {
   // KKT of the float solutions, in double: consistent with epsilon = 1e-3.
   EXPECT_LE(st.worst_prim, 5e-3);
   EXPECT_LE(st.worst_stat, 5e-3);
+}
+
+TEST(GpuKernelOnHost, OffsetFreeFormMatchesTheCpuTwin) {
+  // Parameters (x0, d, c): the kernel forms the shifted bounds through E like any x0.
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> thetas;
+  for (const Eigen::VectorXd& x0 : case_study_states(100, 12)) {
+    Eigen::VectorXd t(24 + 3 + 24);
+    t << x0, u(rng), u(rng), u(rng), Eigen::VectorXd::Zero(24);
+    for (int i = 0; i < 24; ++i) t(27 + i) = 1e-5 * u(rng);
+    thetas.push_back(t);
+  }
+  const ParityStats st = parity<float>(gpu::kExact, 3, thetas, false, false, 0, nullptr, true);
+  expect_parity(st);
+  EXPECT_LE(st.worst_prim, 5e-3);
 }
 
 TEST(GpuKernelOnHost, ThesisVariantMatchesItsCpuTwin) {

@@ -85,6 +85,60 @@ TEST(Solvers, FiveHundredCaseStudyQps) {
   EXPECT_LT(worst_thesis_u, 5e-2);
 }
 
+// The offset-free form (artifact.qp(true)): a force on the load up to 1 N, a small
+// model offset c, nominal states around the force's steady state. Every solver
+// against the reference, whose KKT residuals are checked on the shifted instance.
+TEST(Solvers, OffsetFreeQpsAgreeWithTheReference) {
+  SolverOptions o;
+  o.warm_start = false;
+  const MpcQpData data = artifact().qp(true);
+  ASSERT_EQ(data.parameters(), 24 + 3 + 24);
+  auto ref = make_solver("reference", data, o);
+  auto admm = make_solver("admm", data, o);
+  auto cz = make_solver("cz", data, o);
+  auto thesis = make_solver("admm-thesis", data, o);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst_ref = 0, worst_admm_u = 0, worst_cz_u = 0, worst_thesis_box = 0, worst_shift = 0;
+  int n = 0;
+  for (const Eigen::VectorXd& x0 : case_study_states(60, 9)) {
+    Eigen::VectorXd theta(data.parameters());
+    const Eigen::Vector3d d(u(rng), u(rng), u(rng));
+    Eigen::VectorXd c(24);
+    for (int i = 0; i < 24; ++i) c(i) = 1e-5 * u(rng);
+    theta << x0, d, c;
+    const SolveResult r = ref->solve(theta);
+    ASSERT_EQ(r.status, SolveStatus::Converged) << to_string(r.status) << " at instance " << n;
+    const CondensedQp qp = ref->problem().instance(theta);
+    worst_ref = std::max(worst_ref, kkt_residuals(qp, r.z, r.y).max());
+    // The shift is real: the input bounds moved by u_s = Tu d.
+    worst_shift = std::max(worst_shift, (qp.lo.head(4) - data.u_bar.lo).cwiseAbs().maxCoeff());
+    const SolveResult a = admm->solve(theta);
+    ASSERT_EQ(a.status, SolveStatus::Converged);
+    worst_admm_u = std::max(worst_admm_u, (a.u0() - r.u0()).cwiseAbs().maxCoeff());
+    const SolveResult z = cz->solve(theta);
+    ASSERT_EQ(z.status, SolveStatus::Converged);
+    worst_cz_u = std::max(worst_cz_u, (z.u0() - r.u0()).cwiseAbs().maxCoeff());
+    const SolveResult t = thesis->solve(theta);
+    EXPECT_NE(t.status, SolveStatus::InvalidInput);
+    // The thesis variant clips u to the shifted input box.
+    const Eigen::VectorXd tz = qp.A.topRows(t.z.size()) * t.z;
+    worst_thesis_box = std::max({worst_thesis_box, (qp.lo.head(t.z.size()) - tz).maxCoeff(),
+                                 (tz - qp.hi.head(t.z.size())).maxCoeff()});
+    ++n;
+  }
+  std::printf("offset-free: reference KKT %.2e, admm |du0| %.2e, cz |du0| %.2e, thesis box %.2e, shift %.3f\n", worst_ref,
+              worst_admm_u, worst_cz_u, worst_thesis_box, worst_shift);
+  EXPECT_LT(worst_ref, 1e-8);
+  EXPECT_LT(worst_admm_u, 5e-3);
+  EXPECT_LT(worst_cz_u, 1e-2);
+  EXPECT_LE(worst_thesis_box, 1e-12);
+  EXPECT_GT(worst_shift, 1e-3);
+  // A parameter of the nominal size is refused, not misread.
+  EXPECT_EQ(admm->solve(Eigen::VectorXd::Zero(24)).status, SolveStatus::InvalidInput);
+  EXPECT_EQ(thesis->solve(Eigen::VectorXd::Zero(24)).status, SolveStatus::InvalidInput);
+}
+
 MpcQpData random_mpc(std::mt19937_64& rng, int n, int m, int N, int M) {
   std::normal_distribution<double> g(0.0, 1.0);
   Eigen::MatrixXd A(n, n), B(n, m);

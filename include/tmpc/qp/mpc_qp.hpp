@@ -8,6 +8,12 @@
 //   u(i) in U_bar (i < M), x(i) in X_bar (i = 1..N)                                   (3.55)
 // Condensed form for solvers: min 1/2 z'H z + (F x0)'z  s.t.  l(x0) <= A z <= u(x0),
 //   H = 2 (P'W_x P + W_u), F = 2 P'W_x Q, A = [I; P], bounds [U_bar; X_bar - Q x0].
+// Offset-free form (disturbance_target.hpp): the nominal model is affine,
+// x+ = A x + B u + D d + c (d: the estimated force, c: the filtered remaining model
+// residual), the parameter is (x0 - x_s, d, c) with x_s = Tx d, u_s = Tu d, and the QP
+// is the same one in coordinates around the steady state of d:
+//   x_hat - X_s = P (u_hat - U_s) + Q (x0 - x_s) + Phi c,  Phi = [I; I + A; ...; sum A^i],
+//   bounds [U_bar - U_s; X_bar - X_s - Q (x0 - x_s) - Phi c], F's c block 2 P'W_x Phi.
 #pragma once
 
 #include <Eigen/Core>
@@ -23,11 +29,20 @@ struct MpcQpData {
   Box x_bar, u_bar;                ///< tightened sets (normalized)
   Eigen::MatrixXd P, Q;            ///< prediction matrices (3.53)
   Eigen::MatrixXd H, F;            ///< condensed Hessian and linear-term map
+  Eigen::MatrixXd Tx, Tu;          ///< offset-free targets x_s = Tx d, u_s = Tu d (nd = 0: none)
+  Eigen::MatrixXd Phi;             ///< offset-free: response of x_hat to the constant c (N n x n)
   int variables() const { return M * m; }
+  int disturbances() const { return static_cast<int>(Tx.cols()); }
+  bool offset_free() const { return disturbances() > 0; }
+  /// x0, then (offset-free) d and c.
+  int parameters() const { return n + (offset_free() ? disturbances() + n : 0); }
   int state_constraints() const { return N * n; }
   Eigen::MatrixXd Wx() const;      ///< dense W_x
   Eigen::MatrixXd Wu() const;      ///< dense W_u
 };
+
+/// Offset-free form: targets (Tx, Tu) of the disturbance and Phi. Throws on sizes.
+void make_offset_free(MpcQpData& d, const Eigen::MatrixXd& Tx, const Eigen::MatrixXd& Tu);
 
 /// Build P, Q, W_x, W_u and the condensed H, F. Throws on inconsistent sizes.
 MpcQpData build_mpc_qp(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Sigma_rho,

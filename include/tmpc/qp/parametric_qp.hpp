@@ -2,6 +2,8 @@
 //   min 1/2 z'H z + (f0 + F x0)'z   s.t.   lo0 - E x0 <= A z <= hi0 - E x0
 // with z = u_hat. For the polytope formulation A = [I; P], E = [0; Q]. Rows with
 // lo = hi are equalities. Instances are formed without allocation (bounds_into).
+// In the offset-free form the parameter x0 is (x_bar - x_s, d_hat) and E = [Q Tx-stack;
+// Tu-stack] on its two parts (mpc_qp.hpp); nx() counts both.
 #pragma once
 
 #include <Eigen/Core>

@@ -81,7 +81,8 @@ struct SolveResult {
 class QpSolver {
  public:
   virtual ~QpSolver() = default;
-  /// Solve for nominal state x0 (normalized). No allocation; never throws.
+  /// Solve for nominal state x0 (normalized); in the offset-free form x0 is the
+  /// parameter (x_bar - x_s, d_hat) of problem().nx() entries. No allocation; never throws.
   virtual const SolveResult& solve(const Eigen::VectorXd& x0) = 0;
   /// Forget the warm start (the next solve is cold).
   virtual void reset() = 0;

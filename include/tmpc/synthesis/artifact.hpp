@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include "tmpc/model/checksum.hpp"
+#include "tmpc/qp/disturbance_target.hpp"
 #include "tmpc/qp/mpc_qp.hpp"
 #include "tmpc/sets/box.hpp"
 #include "tmpc/sets/zonotope.hpp"
@@ -53,8 +54,13 @@ struct ControllerArtifact {
   Eigen::Vector4d angles_eq;     ///< hover gamma_1, gamma_2, alpha_r, alpha_l
   double margin = 0.0;
 
-  /// QP data (3.50)-(3.55) rebuilt from the stored model, weights and sets.
-  MpcQpData qp() const;
+  /// QP data (3.50)-(3.55) rebuilt from the stored model, weights and sets; with
+  /// `offset_free`, in coordinates around the steady state of the load force d
+  /// (parameter (x_bar - x_s, d), disturbance_target()).
+  MpcQpData qp(bool offset_free = false) const;
+  /// The steady state of a constant force d on the load (newtons) with zero position,
+  /// yaw and integral errors: x_s = Tx d, u_s = Tu d (normalized), from A, B, D.
+  DisturbanceTarget disturbance_target() const;
 };
 
 ControllerArtifact make_artifact(const ControllerDesign& d);
