@@ -59,7 +59,7 @@ void print_plant(const PlantLoopStats& s) {
 
 struct RtCli {
   std::string controller, config = "config/tiltrotor.yaml", port, solver = "admm", explicit_law, telemetry, out = "out/hil",
-              plant = "el";
+              plant = "el", tube_law;
   int baud = 921600, priority = 0, cpu = -1, run = -1;
   double duration = 0.0;
   bool no_disturbance = false;
@@ -68,6 +68,7 @@ struct RtCli {
 ControllerLoopOptions controller_options(const RtCli& o) {
   ControllerLoopOptions c;
   c.solver = o.solver;
+  c.tube_law = o.tube_law;
   c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   c.duration_s = o.duration;
   c.realtime.priority = o.priority;
@@ -159,6 +160,8 @@ void register_realtime(CLI::App& app) {
   sc->add_option("--port", c->port, "serial device")->required();
   sc->add_option("--solver", c->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sc->add_option("--explicit", c->explicit_law, "explicit law (default: CONTROLLER + 'x')");
+  sc->add_option("--tube-law", c->tube_law, "tube law, overriding the config's tube_law.offset_free")
+      ->check(CLI::IsMember({"mayne", "offset-free"}));
   sc->add_option("--rt-priority", c->priority, "SCHED_FIFO priority 1..99 (0: none)")->check(CLI::Range(0, 99));
   sc->add_option("--cpu", c->cpu, "pin the loop to this CPU");
   sc->add_option("--telemetry", c->telemetry, "telemetry CSV to write");
@@ -181,6 +184,8 @@ void register_realtime(CLI::App& app) {
   sh->add_option("--controller", h->controller, "controller artifact")->required()->check(CLI::ExistingFile);
   sh->add_option("--solver", h->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sh->add_option("--explicit", h->explicit_law, "explicit law (default: CONTROLLER + 'x')");
+  sh->add_option("--tube-law", h->tube_law, "tube law, overriding the config's tube_law.offset_free")
+      ->check(CLI::IsMember({"mayne", "offset-free"}));
   sh->add_option("--plant", h->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
   sh->add_flag("--no-disturbance", h->no_disturbance, "without the 1 N steps");
   sh->add_option("--run", h->run, "Monte Carlo run index");

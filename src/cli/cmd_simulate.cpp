@@ -1,5 +1,5 @@
 // tmpc simulate --config FILE --controller FILE.tmpc [--solver] [--plant el|mujoco] [--monte-carlo K --seed S]
-//   [--duration 80] [--no-disturbance] [--run K] [--reinit] --out DIR
+//   [--duration 80] [--no-disturbance] [--run K] [--reinit] [--tube-law mayne|offset-free] [--observer-gain B] --out DIR
 // The helix mission in-process on a virtual clock: telemetry.csv and metrics.json.
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +21,8 @@ struct SimOptions {
   std::string controller, config, out = "out", solver = "admm", plant = "el", explicit_law;
   double duration = 80.0;
   bool no_disturbance = false, reinit = false;
+  std::string tube_law;
+  double observer_gain = 0.0;
   int run = -1, monte_carlo = 0;
   long seed = -1;
 };
@@ -36,7 +38,8 @@ void print_metrics(const MissionMetrics& r) {
   if (r.tube_exits > 0) {
     std::printf("  tube exits per disturbance window:");
     for (std::size_t w = 0; w < r.tube_exits_per_step.size(); ++w) {
-      std::printf(" %ld (up to %.3g radii of Z)", r.tube_exits_per_step[w], r.tube_ratio_max_per_step[w]);
+      std::printf(" %ld (up to %.3g radii of Z, back by %.2f s)", r.tube_exits_per_step[w], r.tube_ratio_max_per_step[w],
+                  r.tube_settle_s_per_step[w]);
     }
     std::printf("; mostly in %s\n", r.tube_worst_state.c_str());
   }
@@ -80,6 +83,8 @@ void run_simulate(const SimOptions& o) {
   m.disturbance = !o.no_disturbance;
   m.run = o.run;
   m.reinitialize_nominal = o.reinit;
+  m.tube_law = o.tube_law;
+  m.observer_gain = o.observer_gain;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
@@ -89,8 +94,8 @@ void run_simulate(const SimOptions& o) {
   }
   const MissionMetrics r = run_mission(a, m);
   std::ofstream(o.out + "/metrics.json") << metrics_json(r) << "\n";
-  std::printf("helix mission, %.0f s, plant %s, solver %s%s%s\n", o.duration, o.plant.c_str(), o.solver.c_str(),
-              m.disturbance ? ", 1 N steps at 20/40/60 s" : ", no disturbance",
+  std::printf("helix mission, %.0f s, plant %s, solver %s, %s tube law%s%s\n", o.duration, o.plant.c_str(),
+              o.solver.c_str(), r.offset_free ? "offset-free" : "Mayne's", m.disturbance ? ", 1 N steps at 20/40/60 s" : ", no disturbance",
               o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "");
   print_metrics(r);
   std::printf("  %s/metrics.json, %s/telemetry.csv\n", o.out.c_str(), o.out.c_str());
@@ -114,6 +119,10 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--seed", o->seed, "perturbation seed (default: the config's perturbation.seed)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("--reinit", o->reinit, "re-initialise the nominal state to the measured error when admissible");
+  sub->add_option("--tube-law", o->tube_law, "tube law, overriding the config's tube_law.offset_free")
+      ->check(CLI::IsMember({"mayne", "offset-free"}));
+  sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the config's)")
+      ->check(CLI::Range(1e-6, 1.0));
   sub->add_option("--out", o->out, "output directory");
   sub->callback([o]() { run_simulate(*o); });
 }

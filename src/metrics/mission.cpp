@@ -24,13 +24,14 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
   SolverOptions so;
   so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
   so.eta = cfg.solver.admm_eta;
-  TubeControllerOptions to;
+  TubeControllerOptions to = tube_law_options(cfg, o.tube_law, o.observer_gain);
   to.reinitialize_nominal = o.reinitialize_nominal;
-  TubeController ctrl(a, make_controller_solver(o.solver, a, so, o.explicit_law), to);
+  TubeController ctrl(a, make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free), to);
 
   MissionMetrics m;
   m.solver = o.solver;
   m.plant = o.plant;
+  m.offset_free = to.offset_free;
   const double T = a.sample_time;
   const long K = std::lround(o.duration / T);
   const ReferencePoint r0 = traj.at(0.0);
@@ -47,6 +48,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
   for (const DisturbanceStep& s : cfg.disturbances) step_times.push_back(s.time);
   m.tube_exits_per_step.assign(o.disturbance ? step_times.size() + 1 : 1, 0);
   m.tube_ratio_max_per_step.assign(m.tube_exits_per_step.size(), 0.0);
+  m.tube_settle_s_per_step.assign(m.tube_exits_per_step.size(), 0.0);
   std::vector<long> worst_count(static_cast<std::size_t>(a.n), 0);
   std::ofstream csv;
   if (!o.telemetry_csv.empty()) {
@@ -55,7 +57,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     for (const char* n : kCoordNames) csv << ",e_" << n;
     for (const char* n : kCoordNames) csv << ",r_" << n;
     csv << ",u_f_r,u_f_l,u_tau_r,u_tau_l,ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,status,iterations,solve_us,fallback,"
-           "clipped,in_tube,in_state_box,tube_ratio,tube_worst\n";
+           "clipped,in_tube,in_state_box,tube_ratio,tube_worst,dhat_x,dhat_y,dhat_z\n";
   }
   const double box_limit = 10.0;
   for (long k = 0; k < K; ++k) {
@@ -92,6 +94,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     if (!s.in_tube) {
       ++m.tube_exits;
       ++m.tube_exits_per_step[w];
+      m.tube_settle_s_per_step[w] = t + T - (w == 0 ? 0.0 : step_times[w - 1]);
       ++worst_count[static_cast<std::size_t>(s.tube_worst)];
     }
     if (csv) {
@@ -102,7 +105,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
       for (int i = 0; i < 4; ++i) csv << "," << s.u_bar(i);
       csv << "," << to_string(s.status) << "," << s.iterations << "," << s.solve_us << "," << s.fallback << ","
           << s.clipped << "," << s.in_tube << "," << s.in_state_box << "," << s.tube_ratio << ","
-          << s.tube_worst << "\n";
+          << s.tube_worst << "," << s.d_hat(0) << "," << s.d_hat(1) << "," << s.d_hat(2) << "\n";
     }
   }
   const auto most = std::max_element(worst_count.begin(), worst_count.end());
@@ -139,11 +142,13 @@ std::string metrics_json(const MissionMetrics& m) {
   j["tube_exits"] = {{"total", m.tube_exits},
                      {"per_disturbance_step", m.tube_exits_per_step},
                      {"max_distance_per_step", m.tube_ratio_max_per_step},
+                     {"settle_s_per_step", m.tube_settle_s_per_step},
                      {"worst_state", m.tube_worst_state}};
   j["state_constraint_violations"] = m.state_constraint_violations;
   j["max_abs_error"] = {{"x", m.max_abs_error[0]}, {"y", m.max_abs_error[1]}, {"z", m.max_abs_error[2]}};
   j["solver"] = m.solver;
   j["plant"] = m.plant;
+  j["tube_law"] = m.offset_free ? "offset-free" : "mayne";
   j["diverged"] = m.diverged;
   return j.dump(2);
 }

@@ -314,6 +314,13 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     s.finish();
   }
 
+  if (root.has("tube_law")) {
+    Section s = root.section("tube_law");
+    c.tube_law.offset_free = s.flag("offset_free");
+    c.tube_law.observer_gain = s.number_in("observer_gain", 1e-6, 1.0);
+    s.finish();
+  }
+
   {
     Section s = root.section("synthesis");
     SynthesisSettings& y = c.synthesis;

@@ -24,8 +24,9 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   SolverOptions so;
   so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
   so.eta = cfg.solver.admm_eta;
-  AsyncOptimizer optimizer(make_controller_solver(o.solver, a, so, o.explicit_law), a.n);
-  TubeController ctrl(a, nullptr);
+  const TubeControllerOptions law = tube_law_options(cfg, o.tube_law);
+  TubeController ctrl(a, nullptr, law);
+  AsyncOptimizer optimizer(make_controller_solver(o.solver, a, so, o.explicit_law, law.offset_free), ctrl.parameters());
   TrackingError err;
   ctrl.reset(err.value());
   std::unique_ptr<TelemetryWriter> telemetry;
@@ -48,6 +49,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   std::uint32_t seq = 0;
   TelemetryRecord rec;
   Eigen::Vector4d u_safe = a.u_eq;
+  bool controlled_last = false;  // the previous period sent the law's input for a fresh state
   while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods < max_periods)) {
     const double lat = clock.wait();
     latency.push_back(lat);  // within the reserved capacity
@@ -81,6 +83,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       cf.flags = io::ControlFrame::kSafe;
       ++st.safe_periods;
       rec.safe_command = 1;
+      controlled_last = false;
     } else {
       ++st.states;
       const ReferencePoint r = traj.at(last.time);
@@ -89,7 +92,9 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       State20 x;
       for (int i = 0; i < 20; ++i) x(i) = last.x[static_cast<std::size_t>(i)];
       const Eigen::VectorXd& xt = err.update(x, r);
-      const std::uint64_t ticket = optimizer.start(ctrl.prepare(xt));
+      // The observer uses a residual only across one period of the law's own input.
+      const std::uint64_t ticket = optimizer.start(ctrl.prepare(xt, fresh && controlled_last));
+      controlled_last = fresh;
       // Deadline inside the period.
       const timespec deadline = add_ns(clock.next_wakeup(), static_cast<long>(o.deadline_fraction * T * 1e9));
       const SolveResult* res = nullptr;
@@ -140,6 +145,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       rec.fallback = s.fallback;
       rec.clipped = s.clipped;
       rec.in_tube = s.in_tube;
+      for (int i = 0; i < 3; ++i) rec.d_hat[i] = s.d_hat(i);
     }
     io::encode(cf, out);
     if (!link.write_all(out.data(), out.size(), 2)) ++st.send_failures;

@@ -23,15 +23,22 @@ execute_process(COMMAND ${TMPC} solve --controller ${dir}/c.tmpc --solver explic
 if(NOT rc EQUAL 0 OR NOT out MATCHES "explicit: infeasible")
   message(FATAL_ERROR "a state outside the partition was not reported infeasible: ${out}${err}")
 endif()
-execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver explicit --duration 10 --out ${dir}/sim
+# The explicit law partitions the nominal state only: with the config's offset-free
+# tube law it is refused with a message naming the fix, and flies with Mayne's law.
+execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver explicit --duration 1 --out ${dir}/sim
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT err MATCHES "--tube-law mayne")
+  message(FATAL_ERROR "explicit with the offset-free law was not refused clearly: ${out}${err}")
+endif()
+execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver explicit --tube-law mayne --duration 10
+                        --out ${dir}/sim RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "fallbacks 0," OR NOT EXISTS ${dir}/sim/metrics.json)
   message(FATAL_ERROR "simulate --solver explicit failed: ${out}${err}")
 endif()
 # Monte Carlo campaigns and their comparison (Welch t-test over the runs).
 foreach(solver admm explicit)
   execute_process(COMMAND ${TMPC} simulate --controller ${dir}/c.tmpc --solver ${solver} --duration 3 --monte-carlo 2
-                          --seed 4 --out ${dir}/mc_${solver} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+                          --tube-law mayne --seed 4 --out ${dir}/mc_${solver} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT EXISTS ${dir}/mc_${solver}/run_1/metrics.json OR NOT out MATCHES "2 runs")
     message(FATAL_ERROR "simulate --monte-carlo failed: ${out}${err}")
   endif()

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -64,7 +65,8 @@ class ScriptedPlant : public io::Transport {
   bool delivered_ = false;
 };
 
-TEST(ControllerLoopAllocation, NoAllocationPerPeriod) {
+void expect_no_allocation(const std::string& law) {
+  g_allocations = 0;
   const ControllerArtifact a = make_artifact(test::quick_design());
   const Config cfg = test::quick_config();
   const TiltrotorModel model(cfg.vehicle);
@@ -87,14 +89,18 @@ TEST(ControllerLoopAllocation, NoAllocationPerPeriod) {
   std::atomic<bool> stop{false};
   ScriptedPlant plant(frames, stop, 10, 110);
   ControllerLoopOptions o;
+  o.tube_law = law;
   o.telemetry_csv = ::testing::TempDir() + "allocation_telemetry.csv";
   const ControllerLoopStats st = run_controller_loop(a, plant, o, stop);
   EXPECT_EQ(plant.controls(), 110);
   EXPECT_GE(st.states, 100);
   EXPECT_EQ(g_allocations.load(), 0) << "the controller loop allocated in 100 periods";
-  std::printf("100 counted periods: %ld allocations on the loop thread; %ld states, %ld optimizer results, %ld fallbacks\n",
-              g_allocations.load(), st.states, st.optimizer_used, st.fallback_periods);
+  std::printf("%s law, 100 counted periods: %ld allocations on the loop thread; %ld states, %ld optimizer results, %ld fallbacks\n",
+              law.c_str(), g_allocations.load(), st.states, st.optimizer_used, st.fallback_periods);
 }
+
+TEST(ControllerLoopAllocation, NoAllocationPerPeriodMayneLaw) { expect_no_allocation("mayne"); }
+TEST(ControllerLoopAllocation, NoAllocationPerPeriodOffsetFreeLaw) { expect_no_allocation("offset-free"); }
 
 }  // namespace
 }  // namespace tmpc

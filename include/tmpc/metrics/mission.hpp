@@ -21,6 +21,8 @@ struct MissionOptions {
   int run = -1;                   ///< Monte Carlo run (masses and inertias perturbed), -1: nominal
   long seed = -1;                 ///< perturbation seed, -1: the config's
   bool reinitialize_nominal = false;
+  std::string tube_law;           ///< "" (the config's), "mayne" or "offset-free"
+  double observer_gain = 0.0;     ///< > 0: overrides the config's
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
 };
@@ -38,8 +40,12 @@ struct MissionMetrics {
   /// Largest distance from the tube in each of those windows, in radii of Z (<= 1:
   /// inside), and the error state that set it most often while outside.
   std::vector<double> tube_ratio_max_per_step;
+  /// Seconds from the window's start (mission start, then each step) to the end of
+  /// its last period outside the tube: how long the transient lasted (0: no exit).
+  std::vector<double> tube_settle_s_per_step;
   std::string tube_worst_state;
   std::string solver, plant;
+  bool offset_free = false;                 ///< the tube law flown
   bool diverged = false;                    ///< the state became non-finite or left 10x the box
 };
 

@@ -107,6 +107,13 @@ struct SolverSettings {
   double admm_eta = 0.0;      // restart factor, Algorithm 4.2
 };
 
+/// The online tube law (thesis (5.9); runtime/tube_controller.hpp). Optional section
+/// `tube_law`; without it, Mayne's law as in the thesis.
+struct TubeLawSettings {
+  bool offset_free = false;     // disturbance observer and steady-state targets
+  double observer_gain = 0.1;   // beta in (0, 1]
+};
+
 /// Offline synthesis (thesis ch. 3; DESIGN.md section 4).
 struct SynthesisSettings {
   std::string tube_gain;        // "lqr" | "lmi_thesis" | "lmi_robust"
@@ -152,6 +159,7 @@ struct Config {
   SimulationSettings simulation;
   ErrorModelSettings error_model;
   SolverSettings solver;
+  TubeLawSettings tube_law;       // optional section `tube_law` (defaults above)
   SynthesisSettings synthesis;
   ExplicitSettings explicit_mpc;  // optional section `explicit` (defaults above)
 };

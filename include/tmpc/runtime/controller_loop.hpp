@@ -21,6 +21,7 @@ namespace tmpc {
 struct ControllerLoopOptions {
   std::string solver = "admm";
   std::string explicit_law;          ///< for solver "explicit"
+  std::string tube_law;              ///< "" (the config's), "mayne" or "offset-free"
   double deadline_fraction = 0.8;    ///< the optimizer's result counts until this fraction of the period
   int silent_periods = 10;           ///< watchdog: periods without a valid state before the safe command
   double duration_s = 0.0;           ///< stop after this long (0: when `stop` is set)

@@ -27,6 +27,7 @@ struct TelemetryRecord {
   double wake_latency_us = 0.0;  ///< actual minus planned wake-up
   double period_us = 0.0;        ///< since the previous wake-up (jitter = period_us - T)
   std::uint8_t fallback = 0, clipped = 0, in_tube = 1, safe_command = 0;
+  double d_hat[3] = {};          ///< offset-free: estimated force on the load, N
 };
 
 /// Lock-free ring for one producer and one consumer; capacity rounded up to a power of 2.

@@ -5,13 +5,25 @@
 // (optionally re-initialised to the measured error when that lies in X_bar), the
 // applied input clipped to the actuator limits (counted), and the LQR fallback
 // u = u_r + N_u^-1 K_lqr x_tilde_n used when the optimizer fails or is late.
+// Offset-free option (DESIGN.md section 4, the planned extension), an observer on the
+// one-step residual r = x_n - A x_n,prev - B u_n,prev (normalized, applied input):
+//   d_hat+ = d_hat + beta ((S D)^-1 S r - d_hat)   force on the load, N (S: the load's
+//                                                   x, y, z velocity rows)
+//   c_hat+ = c_hat + beta (r - D d_hat+ - c_hat)     the rest of the model mismatch
+// The nominal model becomes affine, x_bar+ = A x_bar + B u_bar(0) + D d_hat + c_hat, and
+// the QP (built from artifact.qp(true), mpc_qp.hpp) predicts with it around the
+// steady state (x_s, u_s) = (Tx, Tu) d_hat, with its sets shifted; u_bar(0) includes
+// u_s and the fallback is u_s + K_lqr (x_n - x_s). The tube error x_tilde - x_bar then
+// sees only the change of the mismatch, not its constant part.
 // No allocation in step(); it never throws.
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include <Eigen/Core>
 
+#include "tmpc/model/config.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -19,7 +31,17 @@ namespace tmpc {
 
 struct TubeControllerOptions {
   bool reinitialize_nominal = false;  ///< x_bar := x_tilde when x_tilde is in X_bar
+  bool offset_free = false;           ///< disturbance observer + targets; the solver must be
+                                      ///< built from artifact.qp(true)
+  double observer_gain = 0.05;        ///< beta in (0, 1]: time constant T / beta (0.24 s)
+  /// Throws std::invalid_argument naming the bad field.
+  void validate() const;
 };
+
+/// The config's tube law (section `tube_law`), overridden by `law` when not empty:
+/// "mayne" or "offset-free"; `observer_gain` > 0 overrides the gain. Throws
+/// std::invalid_argument for another name.
+TubeControllerOptions tube_law_options(const Config& cfg, const std::string& law = "", double observer_gain = 0.0);
 
 /// What one period decided.
 struct ControlStep {
@@ -35,6 +57,7 @@ struct ControlStep {
   double tube_ratio = 0.0;  ///< max_i |x_tilde - x_bar - c_Z|_i / radius_i (<= 1: inside)
   int tube_worst = 0;       ///< the state i of that maximum
   bool in_state_box = true;  ///< x_tilde inside X
+  Eigen::Vector3d d_hat = Eigen::Vector3d::Zero();  ///< estimated force on the load, N (offset-free)
 };
 
 class TubeController {
@@ -47,8 +70,12 @@ class TubeController {
   /// the optimizer's answer arrived in time (false: the fallback is applied).
   /// Equals prepare(), a solve from the returned nominal state, finish().
   const ControlStep& step(const Eigen::VectorXd& x_tilde, const Eigen::Vector4d& u_r, bool optimizer_in_time = true);
-  /// First half of a period: the nominal state (normalized) the optimizer solves from.
-  const Eigen::VectorXd& prepare(const Eigen::VectorXd& x_tilde);
+  /// First half of a period: the parameter the optimizer solves for, the nominal
+  /// state (normalized), or (x_bar - x_s, d_hat) offset-free. `consecutive`: x_tilde
+  /// follows the previous prepare()'s state by one period, with finish()'s input
+  /// applied in between (false after a stale state or a safe command: the observer
+  /// skips that residual).
+  const Eigen::VectorXd& prepare(const Eigen::VectorXd& x_tilde, bool consecutive = true);
   /// Second half: the law (5.9) with the optimizer's result, or the LQR fallback when
   /// `r` is null (late, busy), not converged, or not `in_time` (its status is still
   /// recorded). Call prepare() first in the same period.
@@ -57,6 +84,8 @@ class TubeController {
   void reset(const Eigen::VectorXd& x_tilde);
 
   const ControllerArtifact& artifact() const { return a_; }
+  /// Entries of the optimizer's parameter: n, plus 3 offset-free.
+  int parameters() const { return static_cast<int>(theta_.size()); }
   long clipped_count() const { return clipped_; }
   long fallback_count() const { return fallbacks_; }
 
@@ -65,6 +94,13 @@ class TubeController {
   std::unique_ptr<QpSolver> solver_;
   TubeControllerOptions opt_;
   Eigen::VectorXd x_bar_, x_n_, e_, dev_, z_half_, next_;
+  // Offset-free observer and targets.
+  Eigen::MatrixXd Tx_, Tu_, D_pinv_;
+  Eigen::VectorXd theta_, x_s_, x_prev_, resid_;
+  Eigen::Vector4d u_s_ = Eigen::Vector4d::Zero(), u_prev_n_ = Eigen::Vector4d::Zero();
+  Eigen::VectorXd d_hat_ = Eigen::VectorXd::Zero(3), d_raw_ = Eigen::VectorXd::Zero(3);
+  Eigen::VectorXd c_hat_;
+  bool have_prev_ = false;
   Eigen::Vector4d u_min_, u_max_;
   ControlStep out_;
   long clipped_ = 0, fallbacks_ = 0;
