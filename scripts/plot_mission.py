@@ -88,6 +88,13 @@ def plot_run(d):
            os.path.join(out, "tilt.png"), absolute_values=True)
     series(c, [("u_f_r", "f_r [N]"), ("u_f_l", "f_l [N]"), ("u_tau_r", "tau_r [N m]"), ("u_tau_l", "tau_l [N m]")],
            "", "thrusts and servo torques", os.path.join(out, "inputs.png"))
+    if "dhat_x" in c and any(abs(v) > 0.0 for v in c["dhat_x"] + c["dhat_y"] + c["dhat_z"]):
+        # Offset-free tube law: the observer's estimate of the force on the load.
+        series(c, [("dhat_x", "d_x [N]"), ("dhat_y", "d_y [N]"), ("dhat_z", "d_z [N]")], "N",
+               "estimated force on the load (offset-free tube law)", os.path.join(out, "disturbance_estimate.png"))
+    if "tube_ratio" in c:
+        series(c, [("tube_ratio", "|x~ - x_bar| / radius of Z")], "", "distance from the tube (<= 1: inside)",
+               os.path.join(out, "tube_distance.png"))
     return c
 
 

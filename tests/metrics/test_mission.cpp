@@ -93,5 +93,28 @@ TEST(Mission, MayneLawRejectsTheThesisDisturbancesWithinTheStateBox) {
   }
 }
 
+// A +-10 % mass error is a constant force of about 2.3 N (DESIGN.md section 4): with
+// Mayne's law the integral of the z error winds up past its bound; the offset-free
+// law estimates the force and keeps every constraint.
+TEST(Mission, MonteCarloMassErrorKeepsTheStateBoxOnlyWithTheOffsetFreeLaw) {
+  MissionOptions o;
+  o.duration = 80.0;
+  o.run = 1;
+  o.seed = 7;
+  o.tube_law = "offset-free";
+  const MissionMetrics of = run_mission(artifact(), o);
+  o.tube_law = "mayne";
+  const MissionMetrics my = run_mission(artifact(), o);
+  std::printf("Monte Carlo run 1 (seed 7): state-constraint violations offset-free %ld, Mayne %ld; RMSE z %.4f / %.4f m; "
+              "back in the tube %.2f s after the start\n",
+              of.state_constraint_violations, my.state_constraint_violations, of.rmse[2], my.rmse[2],
+              of.tube_settle_s_per_step[0]);
+  EXPECT_FALSE(of.diverged);
+  EXPECT_EQ(of.state_constraint_violations, 0);
+  EXPECT_LT(of.tube_settle_s_per_step[0], 3.0);  // the mass error's transient at take-off
+  for (std::size_t w = 1; w < of.tube_settle_s_per_step.size(); ++w) EXPECT_LT(of.tube_settle_s_per_step[w], 3.0);
+  EXPECT_GT(my.state_constraint_violations, 0);
+}
+
 }  // namespace
 }  // namespace tmpc
