@@ -38,9 +38,11 @@ void install_signals() {
 void print_controller(const ControllerLoopStats& s) {
   for (const std::string& m : s.realtime.not_set) std::fprintf(stderr, "tmpc controller: not set: %s\n", m.c_str());
   std::printf("controller: %ld periods, %ld with a state; optimizer used %ld, late %ld, busy %ld -> fallback %ld; "
-              "safe command %ld; clipped %ld\n",
+              "safe command %ld; clipped %ld; %ld period boundaries slept through\n",
               s.periods, s.states, s.optimizer_used, s.late, s.busy, s.fallback_periods, s.safe_periods,
-              s.clipped_periods);
+              s.clipped_periods, s.skipped);
+  std::printf("  deadline misses: %ld (late %ld + busy %ld + skipped %ld)\n", s.late + s.busy + s.skipped, s.late, s.busy,
+              s.skipped);
   std::printf("  wake-up latency p99 %.1f us, max %.1f us; period jitter max %.1f us; solve p50 %.1f us, max %.1f us\n",
               s.wake_latency_p99_us, s.wake_latency_max_us, s.period_jitter_max_us, s.solve_p50_us, s.solve_max_us);
   std::printf("  link: %ld states accepted, %ld rejected, %ld lost (sequence gaps), %ld send failures; telemetry %llu "
@@ -130,8 +132,12 @@ void run_hil(const RtCli& o) {
   nlohmann::json j;
   for (int i = 0; i < 10; ++i) j["rmse"][kCoordNames[static_cast<std::size_t>(i)]] = ps.rmse[static_cast<std::size_t>(i)];
   j["periods"] = cs.periods;
-  j["deadline_misses"] = cs.late;
+  // Every period without the optimizer's answer in time: late, still busy with an
+  // abandoned solve, or slept through entirely.
+  j["deadline_misses"] = cs.late + cs.busy + cs.skipped;
+  j["late_periods"] = cs.late;
   j["busy_periods"] = cs.busy;
+  j["skipped_periods"] = cs.skipped;
   j["fallback_periods"] = cs.fallback_periods;
   j["safe_periods"] = cs.safe_periods;
   j["clipped_periods"] = cs.clipped_periods;

@@ -50,7 +50,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   TelemetryRecord rec;
   Eigen::Vector4d u_safe = a.u_eq;
   bool controlled_last = false;  // the previous period sent the law's input for a fresh state
-  while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods < max_periods)) {
+  while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock.skipped() < max_periods)) {
     const double lat = clock.wait();
     latency.push_back(lat);  // within the reserved capacity
     if (clock.last_period_us() > 0.0) {
@@ -151,6 +151,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
     if (!link.write_all(out.data(), out.size(), 2)) ++st.send_failures;
     if (telemetry) telemetry->push(rec);
   }
+  st.skipped = clock.skipped();
   st.link = decoder.stats();
   if (telemetry) {
     st.telemetry_records = telemetry->pushed();

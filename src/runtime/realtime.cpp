@@ -82,7 +82,13 @@ double PeriodicClock::wait() {
   if (woke_) last_period_us_ = diff_us(now, last_wake_);
   last_wake_ = now;
   woke_ = true;
-  return diff_us(now, next_);
+  const double late_us = diff_us(now, next_);
+  const long behind = static_cast<long>(late_us * 1e3 / static_cast<double>(period_ns_));  // whole periods
+  if (behind > 0) {
+    next_ = add_ns(next_, behind * period_ns_);
+    skipped_ += behind;
+  }
+  return late_us;
 }
 
 double PeriodicClock::elapsed_s() const {

@@ -1,5 +1,8 @@
 // Real-time set-up reports what it could not set instead of failing; the periodic
 // clock wakes at absolute period boundaries (no drift).
+#include <cmath>
+#include <ctime>
+
 #include <gtest/gtest.h>
 
 #include "tmpc/runtime/realtime.hpp"
@@ -37,6 +40,31 @@ TEST(RealTime, PeriodicClockHasNoDrift) {
   EXPECT_LT(c.elapsed_s(), 0.1 + 0.05);
   EXPECT_GT(c.last_period_us(), 0.0);
   EXPECT_THROW(PeriodicClock(0.0), std::invalid_argument);
+}
+
+TEST(RealTime, PeriodicClockSkipsTheBoundariesItSleptThrough) {
+  const long period_ns = 10'000'000;  // 10 ms
+  PeriodicClock c(1e-2);
+  c.wait();
+  const timespec planned = c.next_wakeup();
+  // The thread is "not scheduled" for 65 ms: six boundaries pass.
+  timespec stall = add_ns(planned, 65'000'000);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &stall, nullptr) == EINTR) {
+  }
+  const double late = c.wait();
+  EXPECT_GE(late, 55'000.0);  // against the first boundary it missed
+  EXPECT_GE(c.skipped(), 5);  // 6 here (more if this machine stalled too)
+  // The schedule stays on the grid of boundaries and moves past them: the next wait
+  // sleeps to the first boundary after now instead of returning at once.
+  const long since = static_cast<long>(std::llround(diff_us(c.next_wakeup(), planned) * 1e3));
+  EXPECT_EQ(since % period_ns, 0);
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  EXPECT_LE(diff_us(c.next_wakeup(), now), 0.0);  // the last boundary at or before now
+  const long skipped = c.skipped();
+  c.wait();
+  EXPECT_GT(diff_us(c.next_wakeup(), stall), 0.0);
+  EXPECT_LE(c.skipped() - skipped, 1);  // a normal wait (one more only if this machine stalled)
 }
 
 }  // namespace

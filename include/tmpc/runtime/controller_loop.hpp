@@ -32,6 +32,7 @@ struct ControllerLoopOptions {
 struct ControllerLoopStats {
   long periods = 0, states = 0, optimizer_used = 0, late = 0, busy = 0, fallback_periods = 0;
   long safe_periods = 0, clipped_periods = 0, send_failures = 0;
+  long skipped = 0;  ///< period boundaries the loop slept through (woken a period late or more)
   double wake_latency_max_us = 0.0, wake_latency_p99_us = 0.0, period_jitter_max_us = 0.0;
   double solve_p50_us = 0.0, solve_max_us = 0.0;
   io::DecoderStats link;

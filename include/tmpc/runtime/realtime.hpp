@@ -33,7 +33,12 @@ class PeriodicClock {
   explicit PeriodicClock(double period_s);
   /// Sleeps until the next period boundary (absolute time: no drift). Returns the
   /// wake-up latency in us (actual minus planned wake-up, >= 0 up to clock noise).
+  /// Woken a whole period late or more (the thread was not scheduled: a VM's steal
+  /// time, a higher-priority hog), it does not run the missed boundaries back to back:
+  /// the schedule moves to the last boundary before now and skipped() counts them.
   double wait();
+  /// Period boundaries skipped after late wake-ups (each one a missed deadline).
+  long skipped() const { return skipped_; }
   /// Time between the last two wake-ups (us); 0 before the second.
   double last_period_us() const { return last_period_us_; }
   /// Seconds since construction (CLOCK_MONOTONIC).
@@ -45,6 +50,7 @@ class PeriodicClock {
   long period_ns_;
   timespec start_{}, next_{}, last_wake_{};
   double last_period_us_ = 0.0;
+  long skipped_ = 0;
   bool woke_ = false;
 };
 
