@@ -24,6 +24,9 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   SolverOptions so;
   so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
   so.eta = cfg.solver.admm_eta;
+  // A solve never outlives its period's deadline: past it the answer is useless, and
+  // still running it would make the next period busy (the fallback twice).
+  so.time_budget_us = o.deadline_fraction * a.sample_time * 1e6;
   const TubeControllerOptions law = tube_law_options(cfg, o.tube_law);
   TubeController ctrl(a, nullptr, law);
   AsyncOptimizer optimizer(make_controller_solver(o.solver, a, so, o.explicit_law, law.offset_free), ctrl.parameters());
