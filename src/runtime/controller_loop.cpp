@@ -2,6 +2,7 @@
 #include "tmpc/runtime/controller_loop.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -53,6 +54,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   TelemetryRecord rec;
   Eigen::Vector4d u_safe = a.u_eq;
   bool controlled_last = false;  // the previous period sent the law's input for a fresh state
+  double last_state_time = -1.0;  // plant time of the state that input was computed from
   while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock.skipped() < max_periods)) {
     const double lat = clock.wait();
     latency.push_back(lat);  // within the reserved capacity
@@ -96,8 +98,13 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       for (int i = 0; i < 20; ++i) x(i) = last.x[static_cast<std::size_t>(i)];
       const Eigen::VectorXd& xt = err.update(x, r);
       // The observer uses a residual only across one period of the law's own input.
-      const std::uint64_t ticket = optimizer.start(ctrl.prepare(xt, fresh && controlled_last));
+      // ... and only when the plant moved by one period since that state (a stall of
+      // either side makes the residual span several periods under inputs it did not
+      // see: a wrong force estimate).
+      const bool one_period = std::abs(last.time - last_state_time - T) < 0.5 * T;
+      const std::uint64_t ticket = optimizer.start(ctrl.prepare(xt, fresh && controlled_last && one_period));
       controlled_last = fresh;
+      last_state_time = last.time;
       // Deadline inside the period.
       const timespec deadline = add_ns(clock.next_wakeup(), static_cast<long>(o.deadline_fraction * T * 1e9));
       const SolveResult* res = nullptr;
