@@ -2,6 +2,9 @@
 // {10, 20, 40} (M = 4), cold (independent random states) and warm (a closed-loop
 // sequence). Counters: median, p99 and max solve time (us), mean iterations, and the
 // thesis variant's optimality gap against the reference (relative to the full cost).
+// OffsetFree/...: the default tube law's QP (parameter (x_bar - x_s, d_hat, c_hat),
+// mpc_qp.hpp) at a 1 N force along x and a small model offset, against the same
+// states' nominal QP in the same run.
 #include <algorithm>
 #include <map>
 #include <memory>
@@ -19,11 +22,25 @@ using bench_case::cold_states;
 using bench_case::data_for;
 using bench_case::warm_states;
 
-void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc::SolverOptions o) {
-  const tmpc::MpcQpData d = data_for(N);
+void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc::SolverOptions o,
+         bool offset_free = false) {
+  const tmpc::MpcQpData nominal = data_for(N);
+  tmpc::MpcQpData d = nominal;
   o.warm_start = warm;
+  std::vector<Eigen::VectorXd> xs = warm ? warm_states(nominal, 200) : cold_states(200);
+  if (offset_free) {
+    const tmpc::DisturbanceTarget t = artifact().disturbance_target();
+    tmpc::make_offset_free(d, t.Tx, t.Tu);
+    std::mt19937_64 rng(44);
+    std::uniform_real_distribution<double> u(-1e-5, 1e-5);
+    for (Eigen::VectorXd& x : xs) {
+      Eigen::VectorXd theta(d.parameters());
+      theta << x, 1.0, 0.0, 0.0, Eigen::VectorXd::Zero(24);
+      for (int i = 0; i < 24; ++i) theta(27 + i) = u(rng);
+      x = theta;
+    }
+  }
   auto s = tmpc::make_solver(solver, d, o);
-  const std::vector<Eigen::VectorXd> xs = warm ? warm_states(d, 200) : cold_states(200);
   std::unique_ptr<tmpc::QpSolver> ref;
   const bool gap = solver == "admm-thesis";
   if (gap) {
@@ -45,7 +62,7 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
       st.PauseTiming();
       const double obj = r.objective;
       const double ref_obj = ref->solve(x).objective;
-      const double V = tmpc::condensed_qp(d, x).constant + ref_obj;
+      const double V = tmpc::condensed_qp(d, x.head(24)).constant + ref_obj;
       worst_gap = std::max(worst_gap, (obj - ref_obj) / std::max(V, 1e-12));
       st.ResumeTiming();
     }
@@ -68,6 +85,16 @@ void register_all() {
         });
         b->Unit(benchmark::kMicrosecond)->Iterations(std::string(solver) == "cz" || std::string(solver) == "admm-thesis" ? 100 : 400);
       }
+    }
+  }
+  for (const char* solver : {"admm", "reference"}) {
+    for (bool warm : {false, true}) {
+      if (std::string(solver) == "reference" && warm) continue;
+      const std::string name = std::string("OffsetFree/") + solver + "/N20" + (warm ? "/warm" : "/cold");
+      auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+        run(st, solver, 20, warm, tmpc::SolverOptions{}, true);
+      });
+      b->Unit(benchmark::kMicrosecond)->Iterations(400);
     }
   }
   // The penalty rule, the acceleration and the active-set steps, exact ADMM at the
