@@ -9,3 +9,5 @@ scripts/build.sh
 mkdir -p out
 ./build/tmpc design --config config/tiltrotor.yaml --out out/tiltrotor.tmpc --report out/design_report.json
 ./build/tmpc simulate --controller out/tiltrotor.tmpc --out out/helix
+# The figures (thesis Figures 6.11-6.21 style): out/helix/plots/*.png.
+/usr/bin/python3 scripts/plot_mission.py out/helix
