@@ -41,6 +41,10 @@ void run_design(const DesignOptions& o) {
     std::fprintf(stderr, "tmpc design: %s ...\n", m.c_str());
   });
   const ControllerArtifact a = make_artifact(d);
+  // The offset-free law needs the steady state of every force on the load: checked
+  // here (a clear error), not first on the vehicle.
+  DisturbanceTarget target;
+  if (cfg.tube_law.offset_free) target = a.disturbance_target();
   save_artifact(a, o.out);
   if (o.explicit_law) {
     const ExplicitLaw law = build_explicit_law(a, explicit_options_from(cfg.explicit_mpc));
@@ -86,6 +90,18 @@ void run_design(const DesignOptions& o) {
   }
   std::printf("QP: N = %d, M = %d, %d variables, %d constraints\n", d.qp.N, d.qp.M, d.qp.variables(),
               d.qp.variables() + d.qp.state_constraints());
+  if (cfg.tube_law.offset_free) {
+    std::printf("tube law: offset-free (observer gain %.3g); the steady state of 1 N on the load takes, per axis,\n",
+                cfg.tube_law.observer_gain);
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector4d us = target.Tu.col(j).cwiseQuotient(a.N_u);
+      const Eigen::VectorXd xs = target.Tx.col(j).cwiseQuotient(a.N_x);
+      std::printf("  %c: u_s = (%.3f, %.3f) N, (%.4f, %.4f) N m; load phi %.3f, theta %.3f, gamma (%.3f, %.3f) rad\n",
+                  "xyz"[j], us(0), us(1), us(2), us(3), xs(3), xs(4), xs(6), xs(7));
+    }
+  } else {
+    std::printf("tube law: Mayne's (the thesis')\n");
+  }
   std::printf("artifact: %s\n", o.out.c_str());
   if (!o.report.empty()) std::printf("report: %s\n", o.report.c_str());
 }
