@@ -1,10 +1,9 @@
 // The controller loop allocates nothing once it runs: a global operator new that
 // counts the allocations of the loop's own thread (the optimizer and telemetry
 // writer threads have their own tests or may allocate once at start), switched on by
-// a scripted plant transport after 10 periods and off after 100 more.
+// a scripted plant transport (scripted_plant.hpp) after 10 periods and off after 100 more.
 #include <atomic>
 #include <cstdlib>
-#include <cstring>
 #include <new>
 #include <string>
 #include <vector>
@@ -12,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "../synthesis/design_fixture.hpp"
+#include "scripted_plant.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
 
@@ -30,40 +30,6 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace tmpc {
 namespace {
-
-/// The plant's side of the link, scripted: one state frame a period (encoded before
-/// the loop starts), every control frame taken; counting on from the 10th period.
-class ScriptedPlant : public io::Transport {
- public:
-  ScriptedPlant(std::vector<std::vector<std::uint8_t>> frames, std::atomic<bool>& stop, int count_from, int count_to)
-      : frames_(std::move(frames)), stop_(stop), from_(count_from), to_(count_to) {}
-  long read_some(std::uint8_t* buf, std::size_t cap) override {
-    if (delivered_ || period_ >= static_cast<int>(frames_.size())) return 0;
-    const std::vector<std::uint8_t>& f = frames_[static_cast<std::size_t>(period_)];
-    const std::size_t n = std::min(cap, f.size());
-    std::memcpy(buf, f.data(), n);
-    delivered_ = true;
-    return static_cast<long>(n);
-  }
-  bool write_all(const std::uint8_t*, std::size_t, int) override {
-    ++period_;
-    ++controls_;
-    delivered_ = false;
-    if (period_ == from_) t_counting = true;
-    if (period_ == to_) {
-      t_counting = false;
-      stop_.store(true);
-    }
-    return true;
-  }
-  int controls() const { return controls_; }
-
- private:
-  std::vector<std::vector<std::uint8_t>> frames_;
-  std::atomic<bool>& stop_;
-  int from_, to_, period_ = 0, controls_ = 0;
-  bool delivered_ = false;
-};
 
 void expect_no_allocation(const std::string& law) {
   g_allocations = 0;
@@ -87,7 +53,14 @@ void expect_no_allocation(const std::string& law) {
     frames.push_back(bytes);
   }
   std::atomic<bool> stop{false};
-  ScriptedPlant plant(frames, stop, 10, 110);
+  // Counting on from the 10th period, off (and the loop stopped) at the 110th.
+  test::ScriptedPlant plant(frames, [&stop](int period) {
+    if (period == 10) t_counting = true;
+    if (period == 110) {
+      t_counting = false;
+      stop.store(true);
+    }
+  });
   ControllerLoopOptions o;
   o.tube_law = law;
   o.telemetry_csv = ::testing::TempDir() + "allocation_telemetry.csv";

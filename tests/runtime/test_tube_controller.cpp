@@ -65,6 +65,27 @@ TEST(TubeController, OffsetFreeObserverFindsTheForceAndTheTubeErrorDiesOut) {
   EXPECT_GT(my.tube_ratio_end, 10.0);  // the constant force holds the error outside Z
 }
 
+TEST(TubeController, ObserverSkipsAResidualThatIsNotOnePeriod) {
+  // The same jump of the state seen once as one period (consecutive) and once after a
+  // stall (not consecutive): only the first moves the force estimate.
+  const ControllerArtifact& a = artifact();
+  TubeControllerOptions o;
+  o.offset_free = true;
+  auto estimate_after_jump = [&](bool consecutive) {
+    TubeController ctrl(a, make_solver("admm", a.qp(true)), o);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n);
+    ctrl.reset(x);
+    ctrl.step(x, a.u_eq);
+    x(10) = 0.05;  // +5 cm/s in x
+    const SolveResult& r = make_solver("admm", a.qp(true))->solve(ctrl.prepare(x, consecutive));
+    return ctrl.finish(a.u_eq, &r).d_hat;
+  };
+  const Eigen::Vector3d seen = estimate_after_jump(true), skipped = estimate_after_jump(false);
+  std::printf("force estimate after a 5 cm/s jump: %.3f N as one period, %.3g N after a stall\n", seen(0), skipped(0));
+  EXPECT_GT(seen(0), 0.05);  // beta times about 1 N
+  EXPECT_EQ(skipped.norm(), 0.0);
+}
+
 TEST(TubeController, RejectsASolverOfTheWrongForm) {
   const ControllerArtifact& a = artifact();
   TubeControllerOptions o;
