@@ -57,8 +57,8 @@ Eigen::MatrixXd disturbance_pseudo_inverse(const Eigen::MatrixXd& D, const std::
                                 " observed rows has rank " + std::to_string(qr.rank()) + " < " +
                                 std::to_string(D.cols()));
   }
-  const Eigen::MatrixXd StS = SD.transpose() * SD;
-  return StS.llt().solve(SD.transpose()) * S;
+  // Full column rank: the QR's solve is the least-squares solution, (SD)^+ = qr^-1.
+  return qr.solve(Eigen::MatrixXd::Identity(SD.rows(), SD.rows())) * S;
 }
 
 }  // namespace tmpc

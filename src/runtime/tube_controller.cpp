@@ -52,9 +52,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
     // force: the tilt and swing rows of D are dominated by servo and pendulum
     // mismatch, which biased the estimate by 0.1 to 0.3 N in the helix mission.
     D_pinv_ = disturbance_pseudo_inverse(a.D, {kNq + kX, kNq + kY, kNq + kZ});
-    d_hat_.setZero(a.D.cols());
-    d_raw_.setZero(a.D.cols());
-    theta_ = Eigen::VectorXd::Zero(2 * a.n + a.D.cols());
+    theta_ = Eigen::VectorXd::Zero(2 * a.n + kNd);
   } else {
     theta_ = Eigen::VectorXd::Zero(a.n);
   }
@@ -112,10 +110,10 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   out_.tube_ratio = (dev_.array() / (z_half_.array() + 1e-300)).maxCoeff(&worst);
   out_.tube_worst = static_cast<int>(worst);
   out_.x_bar = x_bar_;
-  out_.d_hat = d_hat_.head<3>();
+  out_.d_hat = d_hat_;
   if (!opt_.offset_free) return x_bar_;
   theta_.head(a_.n) = x_bar_ - x_s_;
-  theta_.segment(a_.n, d_hat_.size()) = d_hat_;
+  theta_.segment<kNd>(a_.n) = d_hat_;
   theta_.tail(a_.n) = c_hat_;
   return theta_;
 }
@@ -133,11 +131,6 @@ const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const Solv
     u_n = ub + a_.K * e_;
     out_.u_bar = ub.cwiseQuotient(a_.N_u);
     next_.noalias() = a_.A * x_bar_ + a_.B * ub;  // nominal model (Mayne)
-    if (opt_.offset_free) {
-      next_.noalias() += a_.D * d_hat_;
-      next_ += c_hat_;
-    }
-    x_bar_ = next_;
     out_.fallback = false;
   } else {
     // LQR fallback on the measured error (around the disturbance's steady state when
@@ -147,14 +140,14 @@ const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const Solv
     u_n.noalias() += a_.K_lqr * resid_;
     out_.u_bar.setZero();
     next_.noalias() = a_.A * x_n_ + a_.B * u_n;
-    if (opt_.offset_free) {
-      next_.noalias() += a_.D * d_hat_;
-      next_ += c_hat_;
-    }
-    x_bar_ = next_;
     out_.fallback = true;
     ++fallbacks_;
   }
+  if (opt_.offset_free) {  // the affine nominal model: + D d_hat + c_hat
+    next_.noalias() += a_.D * d_hat_;
+    next_ += c_hat_;
+  }
+  x_bar_ = next_;
   const Eigen::Vector4d u = u_r + u_n.cwiseQuotient(a_.N_u);
   out_.u = u.cwiseMax(u_min_).cwiseMin(u_max_);
   out_.clipped = (out_.u - u).cwiseAbs().maxCoeff() > 0.0;

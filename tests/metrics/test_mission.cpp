@@ -12,6 +12,19 @@ const ControllerArtifact& artifact() {
   return a;
 }
 
+/// The reference solver gives the same flight (first 30 s of `o`) as admm, to 1 %.
+void expect_admm_flies_like_the_reference(MissionOptions o) {
+  o.solver = "reference";
+  o.duration = 30.0;
+  const MissionMetrics r = run_mission(artifact(), o);
+  o.solver = "admm";
+  const MissionMetrics a = run_mission(artifact(), o);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(a.rmse[static_cast<std::size_t>(i)], r.rmse[static_cast<std::size_t>(i)],
+                0.01 * r.rmse[static_cast<std::size_t>(i)] + 1e-6);
+  }
+}
+
 TEST(Mission, WithoutDisturbanceTheTubeHoldsAndNoConstraintIsViolated) {
   for (const char* law : {"mayne", "offset-free"}) {
     SCOPED_TRACE(law);
@@ -52,16 +65,7 @@ TEST(Mission, OffsetFreeLawLeavesTheTubeOnlyInTheTransientsOfTheSteps) {
     EXPECT_GT(m.tube_exits_per_step[w], 0) << "window " << w;
     EXPECT_LT(m.tube_settle_s_per_step[w], 3.0) << "window " << w;
   }
-  // The reference solver gives the same flight to 1 %.
-  o.solver = "reference";
-  o.duration = 30.0;
-  const MissionMetrics r = run_mission(artifact(), o);
-  o.solver = "admm";
-  const MissionMetrics a = run_mission(artifact(), o);
-  for (int i = 0; i < 3; ++i) {
-    EXPECT_NEAR(a.rmse[static_cast<std::size_t>(i)], r.rmse[static_cast<std::size_t>(i)],
-                0.01 * r.rmse[static_cast<std::size_t>(i)] + 1e-6);
-  }
+  expect_admm_flies_like_the_reference(o);
 }
 
 TEST(Mission, MayneLawRejectsTheThesisDisturbancesWithinTheStateBox) {
@@ -81,16 +85,7 @@ TEST(Mission, MayneLawRejectsTheThesisDisturbancesWithinTheStateBox) {
   EXPECT_FALSE(m.offset_free);
   EXPECT_EQ(m.tube_exits_per_step.front(), 0);
   for (std::size_t w = 1; w < m.tube_settle_s_per_step.size(); ++w) EXPECT_GT(m.tube_settle_s_per_step[w], 19.0);
-  // The reference solver gives the same flight to 1 %.
-  o.solver = "reference";
-  o.duration = 30.0;
-  const MissionMetrics r = run_mission(artifact(), o);
-  o.solver = "admm";
-  const MissionMetrics a = run_mission(artifact(), o);
-  for (int i = 0; i < 3; ++i) {
-    EXPECT_NEAR(a.rmse[static_cast<std::size_t>(i)], r.rmse[static_cast<std::size_t>(i)],
-                0.01 * r.rmse[static_cast<std::size_t>(i)] + 1e-6);
-  }
+  expect_admm_flies_like_the_reference(o);
 }
 
 // A +-10 % mass error is a constant force of about 2.3 N (DESIGN.md section 4): with

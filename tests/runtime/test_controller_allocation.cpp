@@ -3,33 +3,22 @@
 // writer threads have their own tests or may allocate once at start), switched on by
 // a scripted plant transport (scripted_plant.hpp) after 10 periods and off after 100 more.
 #include <atomic>
-#include <cstdlib>
-#include <new>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "../allocation_counter.hpp"
 #include "../synthesis/design_fixture.hpp"
 #include "scripted_plant.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
 
-namespace {
-thread_local bool t_counting = false;
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  if (t_counting) ++g_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-
 namespace tmpc {
 namespace {
+
+using test::g_allocations;
+using test::t_counting;
 
 void expect_no_allocation(const std::string& law) {
   g_allocations = 0;

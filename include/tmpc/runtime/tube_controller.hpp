@@ -98,7 +98,7 @@ class TubeController {
   Eigen::MatrixXd Tx_, Tu_, D_pinv_;
   Eigen::VectorXd theta_, x_s_, x_prev_, resid_;
   Eigen::Vector4d u_s_ = Eigen::Vector4d::Zero(), u_prev_n_ = Eigen::Vector4d::Zero();
-  Eigen::VectorXd d_hat_ = Eigen::VectorXd::Zero(3), d_raw_ = Eigen::VectorXd::Zero(3);
+  Eigen::Vector3d d_hat_ = Eigen::Vector3d::Zero(), d_raw_ = Eigen::Vector3d::Zero();
   Eigen::VectorXd c_hat_;
   bool have_prev_ = false;
   Eigen::Vector4d u_min_, u_max_;
