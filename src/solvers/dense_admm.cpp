@@ -3,6 +3,7 @@
 
 #include "tmpc/gpu/nesterov_restart.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -60,6 +61,8 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_, &xp_}) v->setZero(n);
   yp_.setZero(m);
   polish_ = ActiveSetPolish(static_cast<int>(n), static_cast<int>(m));
+  schur_.setup(H_, A_);  // not for the CZ formulation (H singular): the dense polish stays
+  order_.reserve(static_cast<std::size_t>(n));
   for (std::vector<int>* v : {&tried_rows_, &seen_rows_}) v->reserve(static_cast<std::size_t>(n));
   for (std::vector<double>* v : {&tried_signs_, &seen_signs_}) v->reserve(static_cast<std::size_t>(n));
   for (Eigen::VectorXd* v : {&z_, &y_, &zh_, &yh_, &zprev_, &yprev_, &zt_, &yhalf_, &tmp_m_, &Ax_, &los_, &his_, &y_check_, &dy_})
@@ -77,7 +80,7 @@ void DenseAdmm::factor() {
   llt_.compute(K_);
 }
 
-bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool near) {
   polish_.clear();
   for (Eigen::Index i = 0; i < z_.size(); ++i) {
     const bool eq = equality_[static_cast<std::size_t>(i)];
@@ -85,23 +88,46 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
     const bool low = !up && z_(i) - lo(i) < -y_(i) * rho_inv_(i);  // z - l < -y / rho
     if ((up || low) && !polish_.add(static_cast<int>(i), up)) return false;
   }
-  // Only once the guess has settled (the same at two checks in a row), and not a
-  // guess that already failed: a failed attempt costs a KKT solve.
+  // Never a guess that already failed. The dense polish (CZ) only once the residuals
+  // are near and the guess has settled (the same at two checks in a row): a failed
+  // attempt costs an LU of the KKT matrix. The Schur finish repairs a rough guess
+  // (spurious rows, rows dependent on the true set) in a few cheap steps, so it is
+  // tried from the first check on.
   const bool settled = polish_.rows() == seen_rows_ && polish_.signs() == seen_signs_;
   seen_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
   seen_signs_.assign(polish_.signs().begin(), polish_.signs().end());
-  if (!settled) return false;
-  if (polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;
+  if (!schur_.ready() && !(near && settled)) return false;
+  if (tried_ && polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;
+  tried_ = true;
   tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
   tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
+  // The strongest rows first: the Schur finish takes them in this order.
+  order_.clear();
+  for (int j = 0; j < polish_.size(); ++j) {
+    const int i = polish_.rows()[static_cast<std::size_t>(j)];
+    order_.emplace_back(-std::abs(y_(i)), polish_.signs()[static_cast<std::size_t>(j)] > 0 ? i + 1 : -(i + 1));
+  }
+  std::sort(order_.begin(), order_.end());
+  polish_.clear();
+  for (const auto& [strength, s] : order_) polish_.add(std::abs(s) - 1, s > 0);
   return solve_guess(f, lo, hi);
 }
 
 bool DenseAdmm::solve_guess(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-  bool ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
-  // A wrong guess: a few primal-dual active-set steps from its point.
-  for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
+  bool ok = false;
+  if (schur_.ready()) {
+    schur_.clear();
+    for (int j = 0; j < polish_.size(); ++j) {
+      schur_.propose(polish_.rows()[static_cast<std::size_t>(j)], polish_.signs()[static_cast<std::size_t>(j)] > 0);
+    }
+    ok = schur_.solve(f, lo, hi, 1e-9, opt_.polish_steps, xp_, yp_);
+    finish_steps_ += schur_.steps();
+  } else {
     ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+    // A wrong guess: a few primal-dual active-set steps from its point.
+    for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
+      ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+    }
   }
   if (!ok) return false;
   x_ = xp_;
@@ -197,6 +223,8 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   yprev_ = y_;
   gpu::NesterovRestart<double> nesterov;  // shared with the GPU kernel
   y_check_ = y_;
+  tried_ = false;
+  finish_steps_ = 0;
   tried_rows_.clear();
   tried_signs_.clear();
   seen_rows_.clear();
@@ -282,17 +310,17 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
       res.status = SolveStatus::Infeasible;
       break;
     }
-    if (opt_.polish && r_prim <= kPolishBand * eps_p && r_dual <= kPolishBand * eps_d && try_polish(f, lo, hi)) {
+    if (opt_.time_budget_us > 0.0 && now_us() - t0 > opt_.time_budget_us) {  // before a finish starts
+      res.status = SolveStatus::TimeBudget;
+      break;
+    }
+    if (opt_.polish && try_polish(f, lo, hi, r_prim <= kPolishBand * eps_p && r_dual <= kPolishBand * eps_d)) {
       // x_, z_ = A x_, y_ now the exact KKT point of the guessed active set.
       Hx_.noalias() = H_ * x_;
       Aty_.noalias() = At_ * y_;
       res.primal_residual = 0.0;
       res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
       res.status = SolveStatus::Converged;
-      break;
-    }
-    if (opt_.time_budget_us > 0.0 && now_us() - t0 > opt_.time_budget_us) {
-      res.status = SolveStatus::TimeBudget;
       break;
     }
     // OSQP-style penalty rebalancing, every 25 iterations, with a cheap refactor.
@@ -307,6 +335,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     }
   }
   res.iterations = std::min(k, opt_.max_iterations);
+  res.active_set_steps = finish_steps_;
   // Back to the original units: x = D x~, y = E y~ / c.
   res.z = x_.cwiseProduct(D_);
   res.y = y_.cwiseProduct(E_) / c_;

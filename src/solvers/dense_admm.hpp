@@ -13,9 +13,12 @@
 // ||H x + f + A'y||_inf <= eps_abs + eps_rel max(||Hx||, ||A'y||, ||f||), in the
 // original units. The problem is equilibrated once (Ruiz, 15 passes on [H A'; A 0]
 // plus a cost scaling) and solved in scaled coordinates x~ = D^-1 x, z~ = E z,
-// y~ = c E^-1 y. Once the residuals are within 10x the tolerance, the active set
-// read from (z, y) is polished (an exact equality-constrained solve accepted only if
-// it is a KKT point), which ends the slow tail of ADMM (option `polish`). An
+// y~ = c E^-1 y. At every termination check the active set read from (z, y) is
+// polished (option `polish`), the result accepted only if it is a KKT point: with H
+// positive definite by a dual active-set finish from that guess (Goldfarb-Idnani on
+// the Schur complement, schur_active_set.hpp), which ends most solves at the first
+// check and cuts ADMM's slow tail; for the CZ form (H singular) by the dense
+// equality-constrained solve once the residuals are within 100x the tolerance. An
 // infeasible instance ends with status Infeasible on OSQP's certificate (eps_pinf).
 #pragma once
 
@@ -25,6 +28,7 @@
 #include <Eigen/Core>
 
 #include "active_set_polish.hpp"
+#include "schur_active_set.hpp"
 #include "tmpc/solvers/solver.hpp"
 
 namespace tmpc::detail {
@@ -46,12 +50,15 @@ class DenseAdmm {
 
  private:
   void factor();
-  /// OSQP-style polish: guess the active set from (z, y), solve its KKT system exactly;
-  /// true (and x_, y_, z_ replaced) when that is a KKT point of the scaled problem.
-  bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
+  /// OSQP-style polish: guess the active set from (z, y), finish it exactly (Schur
+  /// active-set steps, or the dense KKT solve when H is singular, then only when
+  /// `near`: the residuals within the polish band); true (and x_, y_, z_ replaced)
+  /// when that gives a KKT point of the scaled problem.
+  bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool near);
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
-  /// Solve the guessed active set in polish_ (with up to polish_refine active-set steps);
-  /// true (and x_, y_, z_ replaced) when that gives a KKT point.
+  /// Solve the guessed active set in polish_ (the Schur finish with up to polish_steps
+  /// steps; the dense KKT solve with up to polish_refine steps); true (and x_, y_, z_
+  /// replaced) when that gives a KKT point.
   bool solve_guess(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   /// OSQP's primal infeasibility certificate on dy = y - y(previous check):
   /// ||A'dy|| <= eps ||dy|| and hi'max(dy, 0) + lo'min(dy, 0) <= -eps ||dy|| (inf-norms).
@@ -74,7 +81,11 @@ class DenseAdmm {
   Eigen::VectorXd x_, z_, y_, zh_, yh_, zprev_, yprev_, xt_, zt_, yhalf_, rhs_, tmp_n_, tmp_m_, Ax_, Hx_, Aty_;
   Eigen::VectorXd y_check_, dy_;      // y at the previous termination check, its change (infeasibility)
   Eigen::VectorXd fs_, los_, his_;    // scaled instance
-  ActiveSetPolish polish_;            // the active-set guess
+  ActiveSetPolish polish_;            // the active-set guess (and its dense KKT solve: CZ)
+  SchurActiveSet schur_;              // its Schur-complement finish (H positive definite)
+  std::vector<std::pair<double, int>> order_;  // the guess by strength |y| (capacity reserved)
+  bool tried_ = false;                // a guess was tried in this solve
+  int finish_steps_ = 0;              // active-set steps of the Schur finish in this solve
   std::vector<int> tried_rows_;       // the last guess that failed (capacity reserved)
   std::vector<double> tried_signs_;
   std::vector<int> seen_rows_;        // the guess at the previous check

@@ -37,6 +37,7 @@ void SolverOptions::validate() const {
   need(rho_scale > 0.0 && std::isfinite(rho_scale), "rho_scale must be positive");
   need(check_every >= 1, "check_every must be >= 1");
   need(polish_refine >= 0, "polish_refine must be >= 0");
+  need(polish_steps >= 0, "polish_steps must be >= 0");
   need(eps_pinf >= 0.0 && std::isfinite(eps_pinf), "eps_pinf must be >= 0");
   // Convergence region of the symmetric ADMM (He et al.): r in (-1, 1), s in
   // (0, (1 + sqrt 5) / 2), r + s > 0, |r| < 1 + s - s^2.

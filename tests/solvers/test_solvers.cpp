@@ -190,10 +190,10 @@ TEST(Solvers, RandomSmallMpcQps) {
   EXPECT_GE(cz_converged, checked * 9 / 10) << "CZ converged on " << cz_converged << " of " << checked;
 }
 
-// The issue asks for "never worse than cold"; ADMM gives no such per-step guarantee and
-// it does not hold here on a few steps (by one or two termination-check intervals). What
-// holds, and is asserted: fewer iterations in total, and not worse on at least 80 % of
-// the steps.
+// The issue asks for "never worse than cold" in iterations on a shifted closed-loop
+// sequence. ADMM alone gives no per-step guarantee (it failed on a few steps by one or
+// two check intervals before the active-set finish); with the finish both end at the
+// first check, and the warm guess needs fewer active-set steps in total.
 TEST(Solvers, WarmStartBeatsColdOnAClosedLoopSequence) {
   const ControllerArtifact& a = artifact();
   SolverOptions warm_o, cold_o;
@@ -201,7 +201,7 @@ TEST(Solvers, WarmStartBeatsColdOnAClosedLoopSequence) {
   auto warm = make_solver("admm", a, warm_o);
   auto cold = make_solver("admm", a, cold_o);
   Eigen::VectorXd x = case_study_states(1, 8)[0];
-  int warm_total = 0, cold_total = 0, worse = 0, worst_excess = 0;
+  int warm_total = 0, cold_total = 0, worse = 0, worst_excess = 0, warm_steps = 0, cold_steps = 0;
   for (int k = 0; k < 100; ++k) {
     const SolveResult w = warm->solve(x);
     const SolveResult c = cold->solve(x);
@@ -212,12 +212,16 @@ TEST(Solvers, WarmStartBeatsColdOnAClosedLoopSequence) {
     }
     warm_total += w.iterations;
     cold_total += c.iterations;
+    warm_steps += w.active_set_steps;
+    cold_steps += c.active_set_steps;
     x = a.A * x + a.B * w.u0();  // nominal closed loop
   }
-  std::printf("100 closed-loop steps: warm %d iterations, cold %d; warm worse on %d steps (by at most %d)\n",
-              warm_total, cold_total, worse, worst_excess);
-  EXPECT_LT(warm_total, cold_total);
-  EXPECT_LE(worse, 20);
+  std::printf("100 closed-loop steps: warm %d iterations (%d active-set steps), cold %d (%d); warm worse on %d steps "
+              "(by at most %d)\n",
+              warm_total, warm_steps, cold_total, cold_steps, worse, worst_excess);
+  EXPECT_EQ(worse, 0);
+  EXPECT_LE(warm_total, cold_total);
+  EXPECT_LE(warm_steps, cold_steps);
 }
 
 // The crash start (the active set of the start point, active-set steps) returns a KKT

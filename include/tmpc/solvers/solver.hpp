@@ -54,13 +54,17 @@ struct SolverOptions {
                                  ///< (the thesis variant always uses it; measured slower for
                                  ///< the exact variant on the case study, see the benchmark)
   double eta = 0.999;            ///< restart factor
-  bool polish = true;            ///< exact ADMM: polish the active set once the residuals are
-                                 ///< within 10x the tolerance (OSQP-style; the exact KKT point
-                                 ///< of the guessed active set, accepted only if it is one)
+  bool polish = true;            ///< exact ADMM: polish the active set read from (z, y) at each
+                                 ///< check (OSQP-style; accepted only if it is a KKT point):
+                                 ///< admm by a dual active-set finish (Goldfarb-Idnani) from
+                                 ///< that guess; cz (H singular) by the dense KKT solve once
+                                 ///< the residuals are within 100x the tolerance
+  int polish_steps = 30;         ///< admm: most active-set steps of one finish (bounds its
+                                 ///< cost; a finish that runs out leaves ADMM iterating)
   bool crash_start = false;      ///< before iterating, try the active set of the start point
                                  ///< (cold: the unconstrained minimizer) with active-set steps
-  int polish_refine = 1;         ///< after a wrong guess, up to this many primal-dual active-set
-                                 ///< steps from its point (0: the plain OSQP polish)
+  int polish_refine = 1;         ///< cz: after a wrong guess, up to this many primal-dual
+                                 ///< active-set steps from its point (0: the plain OSQP polish)
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
@@ -73,6 +77,7 @@ struct SolveResult {
   double objective = 0.0;        ///< 1/2 z'Hz + f'z (without the x0-only constant)
   double solve_us = 0.0;
   int restarts = 0;              ///< Nesterov restarts (ADMM)
+  int active_set_steps = 0;      ///< admm: steps of its active-set finish, over all attempts
   Eigen::VectorXd z;             ///< u_hat (normalized), preallocated
   Eigen::VectorXd y;             ///< multipliers of lo <= A z <= hi (sign: + upper, - lower)
   Eigen::Vector4d u0() const { return z.head<4>(); }

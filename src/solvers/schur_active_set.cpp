@@ -1,0 +1,175 @@
+// Active-set finish on the Schur complement (see schur_active_set.hpp).
+#include "schur_active_set.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+namespace tmpc::detail {
+
+bool SchurActiveSet::setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(H);
+  ready_ = llt.info() == Eigen::Success && H.rows() > 0;
+  if (!ready_) return false;
+  nz_ = static_cast<int>(H.rows());
+  Hinv_ = llt.solve(Eigen::MatrixXd::Identity(H.rows(), H.cols()));
+  At_ = A.transpose();
+  W_ = Hinv_ * At_;
+  u_.setZero(nz_);
+  zc_.setZero(nz_);
+  dz_.setZero(nz_);
+  Az_.setZero(A.rows());
+  const int cap = std::min(nz_, 128);
+  L_.setZero(cap, cap);
+  ya_.setZero(cap);
+  rhs_.setZero(cap);
+  w_.setZero(cap);
+  for (std::vector<int>* v : {&set_, &rebuild_}) v->reserve(static_cast<std::size_t>(cap));
+  cand_.reserve(static_cast<std::size_t>(A.rows()));
+  in_set_.assign(static_cast<std::size_t>(A.rows()), 0);
+  return true;
+}
+
+bool SchurActiveSet::push(int s) {
+  const int i = row_of(s);
+  const int j = static_cast<int>(set_.size());
+  if (in_set_[static_cast<std::size_t>(i)] || j >= L_.rows()) return false;
+  for (int l = 0; l < j; ++l) w_(l) = W_.col(i).dot(At_.col(row_of(set_[static_cast<std::size_t>(l)])));
+  const double d0 = W_.col(i).dot(At_.col(i));
+  L_.topLeftCorner(j, j).triangularView<Eigen::Lower>().solveInPlace(w_.head(j));
+  const double d = d0 - w_.head(j).squaredNorm();
+  if (!(d > 1e-9 * d0)) return false;  // dependent on the set (or a zero row)
+  L_.row(j).head(j) = w_.head(j).transpose();
+  L_(j, j) = std::sqrt(d);
+  set_.push_back(s);
+  in_set_[static_cast<std::size_t>(i)] = 1;
+  return true;
+}
+
+void SchurActiveSet::remove(int j) {
+  rebuild_.assign(set_.begin(), set_.end());  // within the reserved capacity
+  rebuild_.erase(rebuild_.begin() + j);
+  for (int s : set_) in_set_[static_cast<std::size_t>(row_of(s))] = 0;
+  set_.clear();
+  for (int s : rebuild_) push(s);  // a subset of independent rows stays independent
+}
+
+void SchurActiveSet::solve_set(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  const int k = static_cast<int>(set_.size());
+  zc_ = u_;
+  ya_.head(k).setZero();
+  for (int pass = 0; pass < 2; ++pass) {  // the second pass refines on the set's residual
+    for (int j = 0; j < k; ++j) rhs_(j) = At_.col(row_of(set_[static_cast<std::size_t>(j)])).dot(zc_) - bound(j, lo, hi);
+    L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(rhs_.head(k));
+    L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(rhs_.head(k));
+    ya_.head(k) += rhs_.head(k);
+    for (int j = 0; j < k; ++j) zc_.noalias() -= rhs_(j) * W_.col(row_of(set_[static_cast<std::size_t>(j)]));
+  }
+  Az_.noalias() = At_.transpose() * zc_;
+}
+
+void SchurActiveSet::drop(int j) {
+  const int k = static_cast<int>(set_.size());
+  for (int l = j; l + 1 < k; ++l) ya_(l) = ya_(l + 1);
+  remove(j);
+}
+
+int SchurActiveSet::most_negative(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) const {
+  const int k = static_cast<int>(set_.size());
+  const double ymax = k > 0 ? ya_.head(k).cwiseAbs().maxCoeff() : 0.0;
+  int leave = -1;
+  double worst = -1e-10 * std::max(1.0, ymax);
+  for (int j = 0; j < k; ++j) {
+    const int s = set_[static_cast<std::size_t>(j)];
+    const int i = row_of(s);
+    if (lo(i) == hi(i)) continue;  // an equality row's multiplier has either sign
+    const double v = s > 0 ? ya_(j) : -ya_(j);
+    if (v < worst) {
+      worst = v;
+      leave = j;
+    }
+  }
+  return leave;
+}
+
+bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                           double feas_tol, int max_steps, Eigen::VectorXd& z, Eigen::VectorXd& y) {
+  steps_ = 0;
+  if (!ready_) return false;
+  u_.noalias() = Hinv_ * f;
+  u_ *= -1.0;
+  for (int s : set_) in_set_[static_cast<std::size_t>(row_of(s))] = 0;
+  set_.clear();
+  for (int s : cand_) push(s);  // dependent or repeated rows are skipped
+  // Dual feasibility: the most negative multiplier leaves, one at a time.
+  for (;;) {
+    solve_set(lo, hi);
+    const int leave = most_negative(lo, hi);
+    if (leave < 0) break;
+    if (steps_++ >= max_steps) return false;
+    remove(leave);
+  }
+  // Goldfarb-Idnani: the most violated row p joins through partial steps that keep
+  // every multiplier of its sign (a row whose multiplier reaches zero leaves).
+  for (;;) {
+    if (!zc_.allFinite() || !ya_.head(static_cast<Eigen::Index>(set_.size())).allFinite()) return false;
+    int join = 0;
+    double viol = feas_tol;
+    for (Eigen::Index i = 0; i < Az_.size(); ++i) {
+      if (in_set_[static_cast<std::size_t>(i)]) continue;
+      if (Az_(i) - hi(i) > viol) {
+        viol = Az_(i) - hi(i);
+        join = static_cast<int>(i) + 1;
+      } else if (lo(i) - Az_(i) > viol) {
+        viol = lo(i) - Az_(i);
+        join = -(static_cast<int>(i) + 1);
+      }
+    }
+    if (join == 0) break;  // a KKT point
+    const int p = row_of(join);
+    const double sp = join > 0 ? 1.0 : -1.0;  // oriented row n_p = sp a_p, n_p'z <= sp b_p
+    const double bp = join > 0 ? hi(p) : lo(p);
+    for (;;) {
+      if (steps_++ >= max_steps) return false;
+      const int k = static_cast<int>(set_.size());
+      // Direction: H dz + A_a' dy + n_p = 0, A_a dz = 0.
+      for (int j = 0; j < k; ++j) w_(j) = sp * At_.col(row_of(set_[static_cast<std::size_t>(j)])).dot(W_.col(p));
+      L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(w_.head(k));
+      L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(w_.head(k));  // -dy
+      dz_ = -sp * W_.col(p);
+      for (int j = 0; j < k; ++j) dz_.noalias() += w_(j) * W_.col(row_of(set_[static_cast<std::size_t>(j)]));
+      const double curvature = -sp * At_.col(p).dot(dz_);  // -n_p'dz >= 0
+      const double gap = sp * (At_.col(p).dot(zc_) - bp);  // violation left
+      const double t_full = curvature > 1e-12 * W_.col(p).dot(At_.col(p)) ? gap / curvature : HUGE_VAL;
+      double t_dual = HUGE_VAL;
+      int block = -1;
+      for (int j = 0; j < k; ++j) {
+        const int s = set_[static_cast<std::size_t>(j)];
+        if (lo(row_of(s)) == hi(row_of(s))) continue;
+        const double mu = s > 0 ? ya_(j) : -ya_(j), dmu = s > 0 ? -w_(j) : w_(j);
+        if (dmu < 0.0 && std::max(mu, 0.0) / -dmu < t_dual) {
+          t_dual = std::max(mu, 0.0) / -dmu;
+          block = j;
+        }
+      }
+      if (t_full == HUGE_VAL && block < 0) return false;  // infeasible
+      const double t = std::min(t_full, t_dual);
+      zc_ += t * dz_;
+      ya_.head(k) -= t * w_.head(k);
+      if (t_full <= t_dual) {  // p joins: its point is the new set's solution
+        if (!push(join)) return false;
+        solve_set(lo, hi);
+        break;
+      }
+      drop(block);
+    }
+  }
+  if (most_negative(lo, hi) >= 0) return false;
+  z = zc_;
+  y.setZero();
+  for (std::size_t j = 0; j < set_.size(); ++j) y(row_of(set_[j])) = ya_(static_cast<Eigen::Index>(j));
+  return true;
+}
+
+}  // namespace tmpc::detail
