@@ -1,7 +1,8 @@
 // QP solve latency on the case study: every solver and variant, horizons N in
 // {10, 20, 40} (M = 4), cold (independent random states) and warm (a closed-loop
-// sequence). Counters: median, p99 and max solve time (us), mean iterations, and the
-// thesis variant's optimality gap against the reference (relative to the full cost).
+// sequence). Counters: median, p99 and max solve time (us), mean, p99 and max
+// iterations, the exact ADMM's mean active-set steps, and the thesis variant's
+// optimality gap against the reference (relative to the full cost).
 // OffsetFree/...: the default tube law's QP (parameter (x_bar - x_s, d_hat, c_hat),
 // mpc_qp.hpp) at a 1 N force along x and a small model offset, against the same
 // states' nominal QP in the same run.
@@ -48,8 +49,8 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
     ro.warm_start = false;
     ref = tmpc::make_solver("reference", d, ro);
   }
-  std::vector<double> times;
-  double iters = 0.0, worst_gap = 0.0;
+  std::vector<double> times, its;
+  double iters = 0.0, worst_gap = 0.0, steps = 0.0;
   int converged = 0;
   std::size_t k = 0;
   for (auto _ : st) {
@@ -57,6 +58,8 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
     const tmpc::SolveResult& r = s->solve(x);
     times.push_back(r.solve_us);
     iters += r.iterations;
+    its.push_back(r.iterations);
+    steps += r.active_set_steps;
     converged += r.status == tmpc::SolveStatus::Converged;
     if (gap && k < xs.size()) {
       st.PauseTiming();
@@ -69,6 +72,10 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
     ++k;
   }
   st.counters["iterations"] = iters / static_cast<double>(times.size());
+  std::sort(its.begin(), its.end());
+  st.counters["iterations_p99"] = its[std::min(its.size() - 1, its.size() * 99 / 100)];
+  st.counters["iterations_max"] = its.back();
+  if (solver == "admm") st.counters["active_set_steps"] = steps / static_cast<double>(times.size());
   st.counters["converged_pct"] = 100.0 * converged / static_cast<double>(times.size());
   if (gap) st.counters["thesis_gap"] = worst_gap;
   bench_case::time_counters(st, std::move(times));
@@ -97,22 +104,27 @@ void register_all() {
       b->Unit(benchmark::kMicrosecond)->Iterations(400);
     }
   }
-  // The penalty rule, the acceleration and the active-set steps, exact ADMM at the
-  // default horizon (the default is spectral_x0.1_adaptive with polish_refine 1).
+  // The penalty rule, the acceleration and the active-set finish, exact ADMM at the
+  // default horizon (the default is spectral_x0.1_adaptive: the finish from the first
+  // check, at most 30 steps). no_polish is the ADMM alone; plain_polish the OSQP
+  // polish (the guess taken as it is, no step); crash_start skips the iterations when
+  // the start point's active set finishes.
   struct Variant {
     const char* name;
     double rho_scale;
-    bool adaptive, nesterov, ruiz;
-    int refine;
+    bool adaptive, nesterov, ruiz, polish;
+    int steps, check_every;
     bool crash;
   };
-  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false, false, 1, false},
-                          Variant{"spectral_x0.1", 0.1, false, false, false, 1, false},
-                          Variant{"spectral_x0.1_adaptive", 0.1, true, false, false, 1, false},
-                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true, false, 1, false},
-                          Variant{"spectral_x0.1_adaptive_ruiz", 0.1, true, false, true, 1, false},
-                          Variant{"polish_refine0", 0.1, true, false, false, 0, false},
-                          Variant{"crash_start", 0.1, true, false, false, 1, true}}) {
+  for (const Variant v : {Variant{"spectral_x1", 1.0, false, false, false, true, 30, 5, false},
+                          Variant{"spectral_x0.1", 0.1, false, false, false, true, 30, 5, false},
+                          Variant{"spectral_x0.1_adaptive", 0.1, true, false, false, true, 30, 5, false},
+                          Variant{"spectral_x0.1_adaptive_nesterov", 0.1, true, true, false, true, 30, 5, false},
+                          Variant{"spectral_x0.1_adaptive_ruiz", 0.1, true, false, true, true, 30, 5, false},
+                          Variant{"no_polish", 0.1, true, false, false, false, 30, 5, false},
+                          Variant{"plain_polish", 0.1, true, false, false, true, 0, 5, false},
+                          Variant{"check_every1", 0.1, true, false, false, true, 30, 1, false},
+                          Variant{"crash_start", 0.1, true, false, false, true, 30, 5, true}}) {
     for (bool warm : {false, true}) {
       const std::string name = std::string("Rho/admm/N20/") + v.name + (warm ? "/warm" : "/cold");
       auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
@@ -121,7 +133,9 @@ void register_all() {
         o.adaptive_rho = v.adaptive;
         o.nesterov = v.nesterov;
         o.equilibrate = v.ruiz;
-        o.polish_refine = v.refine;
+        o.polish = v.polish;
+        o.polish_steps = v.steps;
+        o.check_every = v.check_every;
         o.crash_start = v.crash;
         run(st, "admm", 20, warm, o);
       });

@@ -8,7 +8,7 @@
 
 namespace tmpc::detail {
 
-bool SchurActiveSet::setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A) {
+bool SchurActiveSet::setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, Eigen::Index g_limit) {
   const Eigen::LLT<Eigen::MatrixXd> llt(H);
   ready_ = llt.info() == Eigen::Success && H.rows() > 0;
   if (!ready_) return false;
@@ -16,6 +16,11 @@ bool SchurActiveSet::setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A) {
   Hinv_ = llt.solve(Eigen::MatrixXd::Identity(H.rows(), H.cols()));
   At_ = A.transpose();
   W_ = Hinv_ * At_;
+  // G = A H^-1 A' makes A z an update of k columns instead of an m x n product.
+  const Eigen::Index m = A.rows();
+  G_.resize(0, 0);
+  if (m * m <= g_limit) G_ = A * W_;
+  Au_.setZero(m);
   u_.setZero(nz_);
   zc_.setZero(nz_);
   dz_.setZero(nz_);
@@ -66,7 +71,30 @@ void SchurActiveSet::solve_set(const Eigen::VectorXd& lo, const Eigen::VectorXd&
     ya_.head(k) += rhs_.head(k);
     for (int j = 0; j < k; ++j) zc_.noalias() -= rhs_(j) * W_.col(row_of(set_[static_cast<std::size_t>(j)]));
   }
-  Az_.noalias() = At_.transpose() * zc_;
+  if (G_.size() == 0) {
+    Az_.noalias() = At_.transpose() * zc_;
+    az_direct_ = true;
+    return;
+  }
+  Az_ = Au_;  // A z = A u - G_a y_a
+  for (int j = 0; j < k; ++j) Az_.noalias() -= ya_(j) * G_.col(row_of(set_[static_cast<std::size_t>(j)]));
+  az_direct_ = k == 0;
+}
+
+int SchurActiveSet::most_violated(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, double feas_tol) const {
+  int join = 0;
+  double viol = feas_tol;
+  for (Eigen::Index i = 0; i < Az_.size(); ++i) {
+    if (in_set_[static_cast<std::size_t>(i)]) continue;
+    if (Az_(i) - hi(i) > viol) {
+      viol = Az_(i) - hi(i);
+      join = static_cast<int>(i) + 1;
+    } else if (lo(i) - Az_(i) > viol) {
+      viol = lo(i) - Az_(i);
+      join = -(static_cast<int>(i) + 1);
+    }
+  }
+  return join;
 }
 
 void SchurActiveSet::drop(int j) {
@@ -99,6 +127,7 @@ bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   if (!ready_) return false;
   u_.noalias() = Hinv_ * f;
   u_ *= -1.0;
+  if (G_.size() != 0) Au_.noalias() = At_.transpose() * u_;
   for (int s : set_) in_set_[static_cast<std::size_t>(row_of(s))] = 0;
   set_.clear();
   for (int s : cand_) push(s);  // dependent or repeated rows are skipped
@@ -114,17 +143,11 @@ bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   // every multiplier of its sign (a row whose multiplier reaches zero leaves).
   for (;;) {
     if (!zc_.allFinite() || !ya_.head(static_cast<Eigen::Index>(set_.size())).allFinite()) return false;
-    int join = 0;
-    double viol = feas_tol;
-    for (Eigen::Index i = 0; i < Az_.size(); ++i) {
-      if (in_set_[static_cast<std::size_t>(i)]) continue;
-      if (Az_(i) - hi(i) > viol) {
-        viol = Az_(i) - hi(i);
-        join = static_cast<int>(i) + 1;
-      } else if (lo(i) - Az_(i) > viol) {
-        viol = lo(i) - Az_(i);
-        join = -(static_cast<int>(i) + 1);
-      }
+    int join = most_violated(lo, hi, feas_tol);
+    if (join == 0 && !az_direct_) {  // confirmed on A z formed directly
+      Az_.noalias() = At_.transpose() * zc_;
+      az_direct_ = true;
+      join = most_violated(lo, hi, feas_tol);
     }
     if (join == 0) break;  // a KKT point
     const int p = row_of(join);

@@ -5,13 +5,16 @@
 // grown a row at a time, so a row dependent on the set (pivot below 1e-9 of its
 // diagonal) is never taken and S stays nonsingular.
 //
-// Start from a guess ordered strongest first (the exact ADMM's multipliers), then
-// single exchanges: the row of the most negative multiplier leaves, else the most
-// violated row joins, until the point is a KKT point (every row within feas_tol,
-// every multiplier of its bound's sign) or max_steps. A wrong guess of ADMM's early
-// iterates (spurious rows with nonzero multipliers, rows dependent on the true set)
-// is what this repairs; the plain polish (active_set_polish.hpp) rejects it. A step
-// costs O(k^2 n + m n), no heap use; at most 128 rows in the set.
+// Start from a guess ordered strongest first (the exact ADMM's multipliers); drop the
+// most negative multiplier one row at a time until every multiplier has its bound's
+// sign (a dual feasible start); then Goldfarb-Idnani steps (Math. Prog. 27, 1983): the
+// most violated row joins through partial steps that keep every multiplier of its
+// sign, a row whose multiplier reaches zero leaving, until the point is a KKT point
+// (every row within feas_tol, confirmed on A z formed directly) or max_steps. A wrong
+// guess of ADMM's early iterates (spurious rows with nonzero multipliers, rows
+// dependent on the true set) is what this repairs; the plain polish
+// (active_set_polish.hpp) rejects it. A step costs O(k^2 n + k m) with G = A H^-1 A'
+// kept (up to 20 MB, else O(k^2 n + m n)); no heap use; at most 128 rows in the set.
 #pragma once
 
 #include <vector>
@@ -22,9 +25,10 @@ namespace tmpc::detail {
 
 class SchurActiveSet {
  public:
-  /// Precomputes H^-1, W = H^-1 A' and A'; false (and unusable) when H is not
-  /// positive definite (the CZ formulation).
-  bool setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A);
+  /// Precomputes H^-1, W = H^-1 A', A' and, when it has at most g_limit entries,
+  /// G = A H^-1 A'; false (and unusable) when H is not positive definite (the CZ
+  /// formulation).
+  bool setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, Eigen::Index g_limit = 2'500'000);
   bool ready() const { return ready_; }
   /// A new guess: clear, then propose rows in order of confidence.
   void clear() { cand_.clear(); }
@@ -50,7 +54,9 @@ class SchurActiveSet {
   void drop(int j);
   /// The position of the most negative multiplier (relative to the largest), or -1.
   int most_negative(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) const;
-  /// (zc_, ya_) for the current set, with one refinement on the active rows.
+  /// The most violated row outside the set (signed as in push), or 0.
+  int most_violated(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, double feas_tol) const;
+  /// (zc_, ya_, Az_) for the current set, with one refinement on the active rows.
   void solve_set(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   double bound(int j, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) const {
     const int s = set_[static_cast<std::size_t>(j)];
@@ -61,7 +67,9 @@ class SchurActiveSet {
   bool ready_ = false;
   int nz_ = 0;
   Eigen::MatrixXd Hinv_, W_, At_;  // H^-1, H^-1 A', A' (its columns: the rows of A)
-  Eigen::VectorXd u_, zc_, Az_, dz_;
+  Eigen::MatrixXd G_;              // A H^-1 A' (empty for large m)
+  Eigen::VectorXd u_, Au_, zc_, Az_, dz_;
+  bool az_direct_ = false;         // Az_ formed as A zc_ (not updated through G)
   Small L_;                        // Cholesky factor of S over set_
   SmallVec ya_, rhs_, w_;
   std::vector<int> cand_, set_, rebuild_;

@@ -68,8 +68,8 @@ TEST(SchurActiveSet, ReachesTheOptimumFromAnyGuess) {
     const int n = 12, m = 30;
     const CondensedQp qp = random_qp(rng, n, m, t % 3 == 0 ? 4 : 0, t % 4 == 0 ? 2 : 0);
     const double ref = reference_objective(qp);
-    SchurActiveSet s;
-    ASSERT_TRUE(s.setup(qp.H, qp.A));
+    SchurActiveSet s;  // A z through G = A H^-1 A' (odd cases) or formed directly
+    ASSERT_TRUE(s.setup(qp.H, qp.A, t % 2 == 1 ? 2'500'000 : 0));
     // Guesses: none; every row at its upper bound; random rows and sides; the true
     // active set (from the empty guess's answer) with spurious rows in front.
     Eigen::VectorXd z(n), y(m);
