@@ -48,7 +48,6 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
     c_ = hmean > 1e-12 ? 1.0 / hmean : 1.0;
     H_ *= c_;
   }
-  At_ = A_.transpose();
   rho0_ = rho_ = opt.rho > 0.0 ? opt.rho : opt.rho_scale * spectral_rho(H_, A_);
   equality_.assign(static_cast<std::size_t>(m), 0);
   for (Eigen::Index i = 0; i < m; ++i) equality_[static_cast<std::size_t>(i)] = lo0(i) == hi0(i);
@@ -74,7 +73,7 @@ void DenseAdmm::factor() {
     rho_vec_(i) = equality_[static_cast<std::size_t>(i)] ? 1e3 * rho_ : rho_;
     rho_inv_(i) = 1.0 / rho_vec_(i);
   }
-  K_.noalias() = At_ * rho_vec_.asDiagonal() * A_;
+  K_.noalias() = A_.transpose() * rho_vec_.asDiagonal() * A_;
   K_ += H_;
   K_.diagonal().array() += opt_.sigma;
   llt_.compute(K_);
@@ -143,7 +142,7 @@ bool DenseAdmm::primal_infeasible(const Eigen::VectorXd& lo, const Eigen::Vector
   y_check_ = y_;
   const double norm = inf_norm(dy_);
   if (opt_.eps_pinf <= 0.0 || !(norm > 1e-12)) return false;
-  tmp_n_.noalias() = At_ * dy_;
+  tmp_n_.noalias() = A_.transpose() * dy_;
   if (inf_norm(tmp_n_) > opt_.eps_pinf * norm) return false;
   double support = 0.0;  // hi'max(dy, 0) + lo'min(dy, 0); an infinite bound in the way: no certificate
   for (Eigen::Index i = 0; i < dy_.size(); ++i) {
@@ -237,14 +236,14 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     res.status = SolveStatus::Converged;
     k = 0;
     Hx_.noalias() = H_ * x_;
-    Aty_.noalias() = At_ * y_;
+    Aty_.noalias() = A_.transpose() * y_;
     res.primal_residual = 0.0;
     res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
   }
   for (; k >= 1 && k <= opt_.max_iterations; ++k) {
     // x~ from the factored KKT matrix.
     tmp_m_ = rho_vec_.cwiseProduct(zh_) - yh_;
-    rhs_.noalias() = At_ * tmp_m_;
+    rhs_.noalias() = A_.transpose() * tmp_m_;
     rhs_ += opt_.sigma * x_ - f;
     xt_ = llt_.solve(rhs_);
     zt_.noalias() = A_ * xt_;
@@ -258,7 +257,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     // Nesterov extrapolation with the residual restart (Algorithm 4.2).
     if (opt_.nesterov) {
       tmp_m_ = rho_vec_.cwiseProduct(z_ - zh_);
-      tmp_n_.noalias() = At_ * tmp_m_;
+      tmp_n_.noalias() = A_.transpose() * tmp_m_;
       const double c = rho_inv_.cwiseProduct(y_ - yh_).norm() + tmp_n_.norm();
       double beta = 0.0;
       if (nesterov.accept(c, opt_.eta, beta)) {
@@ -288,7 +287,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     // H x + f + A'y = D^-1 (H~x~ + f~ + A~'y~) / c.
     Ax_ = zt_.cwiseQuotient(E_);
     Hx_.noalias() = H_ * x_;
-    Aty_.noalias() = At_ * y_;
+    Aty_.noalias() = A_.transpose() * y_;
     Hx_ = Hx_.cwiseQuotient(D_) / c_;
     Aty_ = Aty_.cwiseQuotient(D_) / c_;
     tmp_m_ = z_.cwiseQuotient(E_);
@@ -317,7 +316,7 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     if (opt_.polish && try_polish(f, lo, hi, r_prim <= kPolishBand * eps_p && r_dual <= kPolishBand * eps_d)) {
       // x_, z_ = A x_, y_ now the exact KKT point of the guessed active set.
       Hx_.noalias() = H_ * x_;
-      Aty_.noalias() = At_ * y_;
+      Aty_.noalias() = A_.transpose() * y_;
       res.primal_residual = 0.0;
       res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
       res.status = SolveStatus::Converged;

@@ -67,7 +67,7 @@ class DenseAdmm {
   /// minimizer) polished with active-set steps; true when that is the KKT point.
   bool crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool warm);
 
-  Eigen::MatrixXd H_, A_, At_, K_;   // scaled: H~ = c D H D, A~ = E A D (Ruiz)
+  Eigen::MatrixXd H_, A_, K_;        // scaled: H~ = c D H D, A~ = E A D (Ruiz)
   Eigen::VectorXd D_, E_;             // variable and constraint scalings
   double c_ = 1.0;                    // cost scaling
   Eigen::LLT<Eigen::MatrixXd> llt_, h_llt_;  // K and H (crash start)
