@@ -61,9 +61,8 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   yp_.setZero(m);
   polish_ = ActiveSetPolish(static_cast<int>(n), static_cast<int>(m));
   schur_.setup(H_, A_);  // not for the CZ formulation (H singular): the dense polish stays
-  order_.reserve(static_cast<std::size_t>(n));
-  for (std::vector<int>* v : {&tried_rows_, &seen_rows_}) v->reserve(static_cast<std::size_t>(n));
-  for (std::vector<double>* v : {&tried_signs_, &seen_signs_}) v->reserve(static_cast<std::size_t>(n));
+  order_.reserve(static_cast<std::size_t>(m));
+  for (std::vector<int>* v : {&guess_, &seen_, &tried_guess_}) v->reserve(static_cast<std::size_t>(m));
   for (Eigen::VectorXd* v : {&z_, &y_, &zh_, &yh_, &zprev_, &yprev_, &zt_, &yhalf_, &tmp_m_, &Ax_, &los_, &his_, &y_check_, &dy_})
     v->setZero(m);
 }
@@ -80,61 +79,71 @@ void DenseAdmm::factor() {
 }
 
 bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool near) {
-  polish_.clear();
+  guess_.clear();
+  order_.clear();
   for (Eigen::Index i = 0; i < z_.size(); ++i) {
     const bool eq = equality_[static_cast<std::size_t>(i)];
     const bool up = eq || hi(i) - z_(i) < y_(i) * rho_inv_(i);   // OSQP's rule: u - z < y / rho
     const bool low = !up && z_(i) - lo(i) < -y_(i) * rho_inv_(i);  // z - l < -y / rho
-    if ((up || low) && !polish_.add(static_cast<int>(i), up)) return false;
+    if (!up && !low) continue;
+    const int s = up ? static_cast<int>(i) + 1 : -(static_cast<int>(i) + 1);
+    guess_.push_back(s);  // within the reserved capacity (m)
+    order_.emplace_back(-std::abs(y_(i)), s);
   }
   // Never a guess that already failed. The dense polish (CZ) only once the residuals
   // are near and the guess has settled (the same at two checks in a row): a failed
   // attempt costs an LU of the KKT matrix. The Schur finish repairs a rough guess
-  // (spurious rows, rows dependent on the true set) in a few cheap steps, so it is
-  // tried from the first check on.
-  const bool settled = polish_.rows() == seen_rows_ && polish_.signs() == seen_signs_;
-  seen_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
-  seen_signs_.assign(polish_.signs().begin(), polish_.signs().end());
+  // (spurious rows, rows dependent on the true set, more rows than variables) in a few
+  // cheap steps, so it is tried from the first check on.
+  const bool settled = guess_ == seen_;
+  seen_.assign(guess_.begin(), guess_.end());
   if (!schur_.ready() && !(near && settled)) return false;
-  if (tried_ && polish_.rows() == tried_rows_ && polish_.signs() == tried_signs_) return false;
+  if (tried_ && guess_ == tried_guess_) return false;
   tried_ = true;
-  tried_rows_.assign(polish_.rows().begin(), polish_.rows().end());  // within the reserved capacity
-  tried_signs_.assign(polish_.signs().begin(), polish_.signs().end());
-  // The strongest rows first: the Schur finish takes them in this order.
-  order_.clear();
-  for (int j = 0; j < polish_.size(); ++j) {
-    const int i = polish_.rows()[static_cast<std::size_t>(j)];
-    order_.emplace_back(-std::abs(y_(i)), polish_.signs()[static_cast<std::size_t>(j)] > 0 ? i + 1 : -(i + 1));
+  tried_guess_.assign(guess_.begin(), guess_.end());
+  if (schur_.ready()) {
+    std::sort(order_.begin(), order_.end());  // the strongest rows first
+    schur_.clear();
+    for (const auto& [strength, s] : order_) schur_.propose(std::abs(s) - 1, s > 0);
+    return finish(f, lo, hi);
   }
-  std::sort(order_.begin(), order_.end());
   polish_.clear();
-  for (const auto& [strength, s] : order_) polish_.add(std::abs(s) - 1, s > 0);
+  for (int s : guess_) {
+    if (!polish_.add(std::abs(s) - 1, s > 0)) return false;  // more rows than LICQ allows
+  }
   return solve_guess(f, lo, hi);
 }
 
+bool DenseAdmm::finish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  const bool ok = schur_.solve(f, lo, hi, 1e-9, opt_.polish_steps, xp_, yp_);
+  finish_steps_ += schur_.steps();
+  if (ok) accept(lo, hi);
+  return ok;
+}
+
 bool DenseAdmm::solve_guess(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-  bool ok = false;
   if (schur_.ready()) {
     schur_.clear();
     for (int j = 0; j < polish_.size(); ++j) {
       schur_.propose(polish_.rows()[static_cast<std::size_t>(j)], polish_.signs()[static_cast<std::size_t>(j)] > 0);
     }
-    ok = schur_.solve(f, lo, hi, 1e-9, opt_.polish_steps, xp_, yp_);
-    finish_steps_ += schur_.steps();
-  } else {
-    ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
-    // A wrong guess: a few primal-dual active-set steps from its point.
-    for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
-      ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
-    }
+    return finish(f, lo, hi);
   }
-  if (!ok) return false;
+  bool ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+  // A wrong guess: a few primal-dual active-set steps from its point.
+  for (int step = 0; !ok && step < opt_.polish_refine && polish_.refine(lo, hi, 1e-9); ++step) {
+    ok = polish_.solve(H_, A_, f, lo, hi, 1e-9, xp_, yp_);
+  }
+  if (ok) accept(lo, hi);
+  return ok;
+}
+
+void DenseAdmm::accept(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
   x_ = xp_;
   y_ = yp_;
   z_.noalias() = A_ * x_;
   z_ = z_.cwiseMax(lo).cwiseMin(hi);
   zt_ = z_;
-  return true;
 }
 
 bool DenseAdmm::primal_infeasible(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
@@ -224,10 +233,9 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
   y_check_ = y_;
   tried_ = false;
   finish_steps_ = 0;
-  tried_rows_.clear();
-  tried_signs_.clear();
-  seen_rows_.clear();
-  seen_signs_.clear();
+  schur_.clear();  // no certificate from an earlier instance
+  tried_guess_.clear();
+  seen_.clear();
   res.restarts = 0;
   res.status = SolveStatus::MaxIterations;
   const double f_norm = inf_norm(f_in);
@@ -320,6 +328,10 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
       res.primal_residual = 0.0;
       res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
       res.status = SolveStatus::Converged;
+      break;
+    }
+    if (schur_.infeasible()) {  // the finish's dual ray, checked like OSQP's certificate
+      res.status = SolveStatus::Infeasible;
       break;
     }
     // OSQP-style penalty rebalancing, every 25 iterations, with a cheap refactor.

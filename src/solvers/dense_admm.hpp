@@ -56,10 +56,14 @@ class DenseAdmm {
   /// when that gives a KKT point of the scaled problem.
   bool try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool near);
   static void shift(Eigen::VectorXd& v, const std::vector<ShiftSegment>& segs);
-  /// Solve the guessed active set in polish_ (the Schur finish with up to polish_steps
-  /// steps; the dense KKT solve with up to polish_refine steps); true (and x_, y_, z_
-  /// replaced) when that gives a KKT point.
+  /// The Schur finish (up to polish_steps steps) of the rows proposed to schur_; true
+  /// (and x_, y_, z_ replaced) when that gives a KKT point.
+  bool finish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
+  /// Solve the guessed active set in polish_ (the Schur finish, or the dense KKT solve
+  /// with up to polish_refine steps); true (and x_, y_, z_ replaced) on a KKT point.
   bool solve_guess(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
+  /// x_, y_ from the polished point (xp_, yp_), z_ = clip(A x_).
+  void accept(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   /// OSQP's primal infeasibility certificate on dy = y - y(previous check):
   /// ||A'dy|| <= eps ||dy|| and hi'max(dy, 0) + lo'min(dy, 0) <= -eps ||dy|| (inf-norms).
   bool primal_infeasible(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
@@ -83,13 +87,12 @@ class DenseAdmm {
   Eigen::VectorXd fs_, los_, his_;    // scaled instance
   ActiveSetPolish polish_;            // the active-set guess (and its dense KKT solve: CZ)
   SchurActiveSet schur_;              // its Schur-complement finish (H positive definite)
-  std::vector<std::pair<double, int>> order_;  // the guess by strength |y| (capacity reserved)
+  std::vector<std::pair<double, int>> order_;  // the guess by strength |y| (capacity m)
+  std::vector<int> guess_;            // the guess, signed rows (+(i+1) upper, -(i+1) lower)
+  std::vector<int> seen_;             // the guess at the previous check
+  std::vector<int> tried_guess_;      // the last guess that failed
   bool tried_ = false;                // a guess was tried in this solve
   int finish_steps_ = 0;              // active-set steps of the Schur finish in this solve
-  std::vector<int> tried_rows_;       // the last guess that failed (capacity reserved)
-  std::vector<double> tried_signs_;
-  std::vector<int> seen_rows_;        // the guess at the previous check
-  std::vector<double> seen_signs_;
   Eigen::VectorXd xp_, yp_;
 };
 

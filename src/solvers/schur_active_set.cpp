@@ -121,9 +121,28 @@ int SchurActiveSet::most_negative(const Eigen::VectorXd& lo, const Eigen::Vector
   return leave;
 }
 
+bool SchurActiveSet::certify(int p, double sp, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  // The dual ray of the step: dy = -w on the set, sp on p. Checked as OSQP's
+  // certificate, from its definition: ||A'dy|| <= eps ||dy|| and
+  // hi'max(dy, 0) + lo'min(dy, 0) <= -eps ||dy|| (inf-norms, eps = 1e-6).
+  const int k = static_cast<int>(set_.size());
+  dz_ = sp * At_.col(p);
+  double norm = 1.0, support = sp * (sp > 0 ? hi(p) : lo(p));
+  for (int j = 0; j < k; ++j) {
+    const int i = row_of(set_[static_cast<std::size_t>(j)]);
+    const double d = -w_(j);
+    dz_.noalias() += d * At_.col(i);
+    norm = std::max(norm, std::abs(d));
+    if (d > 0.0) support += d * hi(i);
+    if (d < 0.0) support += d * lo(i);
+  }
+  return dz_.cwiseAbs().maxCoeff() <= 1e-6 * norm && support <= -1e-6 * norm;
+}
+
 bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
                            double feas_tol, int max_steps, Eigen::VectorXd& z, Eigen::VectorXd& y) {
   steps_ = 0;
+  infeasible_ = false;
   if (!ready_) return false;
   u_.noalias() = Hinv_ * f;
   u_ *= -1.0;
@@ -164,7 +183,7 @@ bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
       for (int j = 0; j < k; ++j) dz_.noalias() += w_(j) * W_.col(row_of(set_[static_cast<std::size_t>(j)]));
       const double curvature = -sp * At_.col(p).dot(dz_);  // -n_p'dz >= 0
       const double gap = sp * (At_.col(p).dot(zc_) - bp);  // violation left
-      const double t_full = curvature > 1e-12 * W_.col(p).dot(At_.col(p)) ? gap / curvature : HUGE_VAL;
+      const double t_full = curvature > 1e-9 * W_.col(p).dot(At_.col(p)) ? gap / curvature : HUGE_VAL;  // as push()
       double t_dual = HUGE_VAL;
       int block = -1;
       for (int j = 0; j < k; ++j) {
@@ -176,7 +195,10 @@ bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
           block = j;
         }
       }
-      if (t_full == HUGE_VAL && block < 0) return false;  // infeasible
+      if (t_full == HUGE_VAL && block < 0) {  // p depends on the set and no multiplier gives way
+        infeasible_ = certify(p, sp, lo, hi);
+        return false;
+      }
       const double t = std::min(t_full, t_dual);
       zc_ += t * dz_;
       ya_.head(k) -= t * w_.head(k);

@@ -31,7 +31,10 @@ class SchurActiveSet {
   bool setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, Eigen::Index g_limit = 2'500'000);
   bool ready() const { return ready_; }
   /// A new guess: clear, then propose rows in order of confidence.
-  void clear() { cand_.clear(); }
+  void clear() {
+    cand_.clear();
+    infeasible_ = false;
+  }
   void propose(int row, bool upper) {
     if (cand_.size() < cand_.capacity()) cand_.push_back(upper ? row + 1 : -(row + 1));
   }
@@ -39,8 +42,13 @@ class SchurActiveSet {
   /// and y are untouched.
   bool solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, double feas_tol,
              int max_steps, Eigen::VectorXd& z, Eigen::VectorXd& y);
-  /// Exchanges the last solve made.
+  /// Steps the last solve made.
   int steps() const { return steps_; }
+  /// The last solve failed on a verified certificate of primal infeasibility: a ray
+  /// dy of multipliers with A'dy = 0 and a negative support of the bounds (OSQP's
+  /// test at 1e-6), found when a violated row depends on the set and no multiplier
+  /// gives way (Goldfarb-Idnani's infeasibility exit).
+  bool infeasible() const { return infeasible_; }
 
  private:
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 128, 128>;
@@ -50,6 +58,8 @@ class SchurActiveSet {
   bool push(int signed_row);
   /// Refactors L after removing position j.
   void remove(int j);
+  /// Builds and checks the dual ray for joining row p (see infeasible()).
+  bool certify(int p, double sp, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
   /// Removes position j from the set and from ya_.
   void drop(int j);
   /// The position of the most negative multiplier (relative to the largest), or -1.
@@ -75,6 +85,7 @@ class SchurActiveSet {
   std::vector<int> cand_, set_, rebuild_;
   std::vector<char> in_set_;
   int steps_ = 0;
+  bool infeasible_ = false;
 };
 
 }  // namespace tmpc::detail
