@@ -1,7 +1,9 @@
 // The deadline logic of thesis Figure 6.3 with a solver that is slow on purpose: a
 // late solve is abandoned (its result never used), no second solve starts while one
 // is in flight, those periods apply the LQR fallback, and a solve in time is used.
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -88,34 +90,53 @@ TEST(AsyncOptimizer, LateSolveIsAbandonedAndBlocksNoSecondSolve) {
 // the periods while it is still in flight, apply the fallback; the others the MPC law.
 TEST(AsyncOptimizer, DeadlineLoopUsesTheFallbackExactlyWhenTheOptimizerIsLateOrBusy) {
   const ControllerArtifact& a = artifact();
-  AsyncOptimizer async(std::make_unique<DelayedSolver>(make_solver("admm", a), 40ms, 4), a.n);
-  TubeController ctrl(a, nullptr);
-  const Eigen::VectorXd x_tilde = Eigen::VectorXd::Zero(a.n);
-  ctrl.reset(x_tilde);
-  const Eigen::Vector4d u_r = a.u_eq;
+  // The cycle counts below assume this thread and the optimizer's ran when they asked
+  // to. On a shared VM the host can stall them for tens of ms (steal time): a run whose
+  // sleeps overshot by more than 3 ms is repeated, up to three times.
   int fallbacks = 0, late = 0, busy = 0, used = 0;
-  auto next = std::chrono::steady_clock::now();
-  for (int k = 0; k < 20; ++k) {
-    next += 12ms;
-    const Eigen::VectorXd& xb = ctrl.prepare(x_tilde);
-    const std::uint64_t ticket = async.start(xb);
-    std::this_thread::sleep_until(next - 4ms);  // the deadline, before the period ends
-    const SolveResult* r = async.poll(ticket);
-    if (ticket == 0) {
-      ++busy;
-    } else if (r == nullptr) {
-      ++late;
-      async.abandon(ticket);
-    } else {
-      ++used;
+  double worst_overshoot_ms = 0.0;
+  for (int attempt = 1; attempt <= 3; ++attempt) {
+    AsyncOptimizer async(std::make_unique<DelayedSolver>(make_solver("admm", a), 40ms, 4), a.n);
+    TubeController ctrl(a, nullptr);
+    const Eigen::VectorXd x_tilde = Eigen::VectorXd::Zero(a.n);
+    ctrl.reset(x_tilde);
+    const Eigen::Vector4d u_r = a.u_eq;
+    fallbacks = late = busy = used = 0;
+    worst_overshoot_ms = 0.0;
+    auto next = std::chrono::steady_clock::now();
+    auto sleep_until = [&](std::chrono::steady_clock::time_point t) {
+      std::this_thread::sleep_until(t);
+      const double over = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+      worst_overshoot_ms = std::max(worst_overshoot_ms, over);
+    };
+    for (int k = 0; k < 20; ++k) {
+      next += 12ms;
+      const Eigen::VectorXd& xb = ctrl.prepare(x_tilde);
+      const std::uint64_t ticket = async.start(xb);
+      sleep_until(next - 4ms);  // the deadline, before the period ends
+      const SolveResult* r = async.poll(ticket);
+      if (ticket == 0) {
+        ++busy;
+      } else if (r == nullptr) {
+        ++late;
+        async.abandon(ticket);
+      } else {
+        ++used;
+      }
+      const ControlStep& s = ctrl.finish(u_r, r);
+      fallbacks += s.fallback;
+      EXPECT_EQ(s.fallback, r == nullptr) << "period " << k;  // holds however late the thread ran
+      EXPECT_TRUE(s.u.allFinite());
+      sleep_until(next);
     }
-    const ControlStep& s = ctrl.finish(u_r, r);
-    fallbacks += s.fallback;
-    EXPECT_EQ(s.fallback, r == nullptr) << "period " << k;
-    EXPECT_TRUE(s.u.allFinite());
-    std::this_thread::sleep_until(next);
+    EXPECT_EQ(fallbacks, late + busy);
+    if (worst_overshoot_ms < 3.0) break;
+    std::printf("attempt %d: a sleep overshot by %.1f ms (machine stall); again\n", attempt, worst_overshoot_ms);
   }
-  EXPECT_EQ(fallbacks, late + busy);
+  if (worst_overshoot_ms >= 3.0) {
+    GTEST_SKIP() << "the machine stalled the loop in all three runs (last: a sleep " << worst_overshoot_ms
+                 << " ms late): its cycle cannot be judged here";
+  }
   // A cycle: three solves in time, a slow one (late), three periods while it runs (busy).
   EXPECT_GE(late, 2);
   EXPECT_GE(busy, 2 * late);
