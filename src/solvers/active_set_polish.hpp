@@ -5,7 +5,9 @@
 // and accept the point only if it is a KKT point: every row within its bounds (tol)
 // and every multiplier of the sign of its bound. Static storage, no heap use; at most
 // 128 variables plus active rows. Used by the reference solver (exactness) and by
-// the exact ADMM (to finish once the active set has settled, as OSQP's polish).
+// the exact ADMM of the CZ form, whose H is singular (to finish once the active set
+// has settled, as OSQP's polish); with H positive definite the exact ADMM finishes
+// through schur_active_set.hpp.
 #pragma once
 
 #include <vector>

@@ -55,7 +55,6 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   rho_inv_.resize(m);
   K_.resize(n, n);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
-  h_llt_.compute(H_);
   factor();
   for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_, &xp_}) v->setZero(n);
   yp_.setZero(m);
@@ -80,7 +79,6 @@ void DenseAdmm::factor() {
 
 bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool near) {
   guess_.clear();
-  order_.clear();
   for (Eigen::Index i = 0; i < z_.size(); ++i) {
     const bool eq = equality_[static_cast<std::size_t>(i)];
     const bool up = eq || hi(i) - z_(i) < y_(i) * rho_inv_(i);   // OSQP's rule: u - z < y / rho
@@ -88,7 +86,6 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
     if (!up && !low) continue;
     const int s = up ? static_cast<int>(i) + 1 : -(static_cast<int>(i) + 1);
     guess_.push_back(s);  // within the reserved capacity (m)
-    order_.emplace_back(-std::abs(y_(i)), s);
   }
   // Never a guess that already failed. The dense polish (CZ) only once the residuals
   // are near and the guess has settled (the same at two checks in a row): a failed
@@ -102,7 +99,9 @@ bool DenseAdmm::try_polish(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   tried_ = true;
   tried_guess_.assign(guess_.begin(), guess_.end());
   if (schur_.ready()) {
-    std::sort(order_.begin(), order_.end());  // the strongest rows first
+    order_.clear();  // the strongest rows first
+    for (int s : guess_) order_.emplace_back(-std::abs(y_(std::abs(s) - 1)), s);
+    std::sort(order_.begin(), order_.end());
     schur_.clear();
     for (const auto& [strength, s] : order_) schur_.propose(std::abs(s) - 1, s > 0);
     return finish(f, lo, hi);
@@ -162,11 +161,11 @@ bool DenseAdmm::primal_infeasible(const Eigen::VectorXd& lo, const Eigen::Vector
 }
 
 bool DenseAdmm::crash(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, bool warm) {
-  if (h_llt_.info() != Eigen::Success) return false;
+  if (!schur_.ready()) return false;  // H singular (CZ): no unconstrained minimizer
   if (warm) {
     xp_ = x_;
   } else {
-    xp_ = h_llt_.solve(-f);
+    schur_.unconstrained(f, xp_);
   }
   Ax_.noalias() = A_ * xp_;
   polish_.clear();

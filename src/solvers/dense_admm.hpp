@@ -74,7 +74,7 @@ class DenseAdmm {
   Eigen::MatrixXd H_, A_, K_;        // scaled: H~ = c D H D, A~ = E A D (Ruiz)
   Eigen::VectorXd D_, E_;             // variable and constraint scalings
   double c_ = 1.0;                    // cost scaling
-  Eigen::LLT<Eigen::MatrixXd> llt_, h_llt_;  // K and H (crash start)
+  Eigen::LLT<Eigen::MatrixXd> llt_;  // K
   Eigen::VectorXd rho_vec_, rho_inv_;
   std::vector<char> equality_;
   SolverOptions opt_;

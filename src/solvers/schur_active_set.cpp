@@ -144,8 +144,7 @@ bool SchurActiveSet::solve(const Eigen::VectorXd& f, const Eigen::VectorXd& lo, 
   steps_ = 0;
   infeasible_ = false;
   if (!ready_) return false;
-  u_.noalias() = Hinv_ * f;
-  u_ *= -1.0;
+  unconstrained(f, u_);
   if (G_.size() != 0) Au_.noalias() = At_.transpose() * u_;
   for (int s : set_) in_set_[static_cast<std::size_t>(row_of(s))] = 0;
   set_.clear();

@@ -30,6 +30,11 @@ class SchurActiveSet {
   /// formulation).
   bool setup(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, Eigen::Index g_limit = 2'500'000);
   bool ready() const { return ready_; }
+  /// The unconstrained minimizer -H^-1 f into z (preallocated).
+  void unconstrained(const Eigen::VectorXd& f, Eigen::VectorXd& z) const {
+    z.noalias() = Hinv_ * f;
+    z *= -1.0;
+  }
   /// A new guess: clear, then propose rows in order of confidence.
   void clear() {
     cand_.clear();
