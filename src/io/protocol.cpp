@@ -1,7 +1,14 @@
+// Serial protocol, version 2 (see protocol.hpp).
 #include "tmpc/io/protocol.hpp"
 
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <random>
+#include <stdexcept>
+#include <string>
 
 #include "tmpc/model/checksum.hpp"
 
@@ -9,9 +16,7 @@ namespace tmpc::io {
 
 namespace {
 
-constexpr std::size_t kHeader = 6;  // version, type, sequence
-constexpr std::size_t kStatePayload = 8 * 21;
-constexpr std::size_t kControlPayload = 8 * 4 + 1;
+constexpr std::size_t kHeader = 11;  // version, type, session, sequence, count
 
 void put_u32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
@@ -34,6 +39,14 @@ double get_f64(const std::uint8_t* p) {
   return d;
 }
 
+void put_header(std::uint8_t* p, FrameType type, std::uint32_t session, std::uint32_t seq, std::size_t count) {
+  p[0] = kProtocolVersion;
+  p[1] = static_cast<std::uint8_t>(type);
+  put_u32(p + 2, session);
+  put_u32(p + 6, seq);
+  p[10] = static_cast<std::uint8_t>(count);
+}
+
 std::size_t finish_encode(std::uint8_t* packet, std::size_t len, std::vector<std::uint8_t>& out) {
   put_u32(packet + len, tmpc::crc32(packet, len));
   len += 4;
@@ -44,7 +57,93 @@ std::size_t finish_encode(std::uint8_t* packet, std::size_t len, std::vector<std
   return n + 1;
 }
 
+/// Signed distance from a to b in sequence space (wraps at 2^32).
+long ahead(std::uint32_t b, std::uint32_t a) { return static_cast<long>(static_cast<std::int32_t>(b - a)); }
+
 }  // namespace
+
+const char* to_string(Reject r) {
+  switch (r) {
+    case Reject::Crc: return "crc";
+    case Reject::Framing: return "framing";
+    case Reject::Version: return "version";
+    case Reject::Session: return "session";
+    case Reject::Sequence: return "sequence";
+    case Reject::NonFinite: return "non_finite";
+    case Reject::Bounds: return "bounds";
+    case Reject::Time: return "time";
+    case Reject::Jump: return "jump";
+  }
+  return "?";
+}
+
+long LinkCounts::rejected_total() const {
+  long s = 0;
+  for (long r : rejected) s += r;
+  return s;
+}
+
+LinkCounts LinkCounts::plus(const LinkCounts& o) const {
+  LinkCounts c = *this;
+  c.accepted = accepted + o.accepted;
+  for (std::size_t i = 0; i < kRejectReasons; ++i) c.rejected[i] += o.rejected[i];
+  c.lost += o.lost;
+  c.session_changes += o.session_changes;
+  c.resyncs += o.resyncs;
+  return c;
+}
+
+std::string summary(const LinkCounts& c) {
+  std::string s = std::to_string(c.accepted) + " accepted, " + std::to_string(c.rejected_total()) + " rejected";
+  std::string why;
+  for (std::size_t i = 0; i < kRejectReasons; ++i) {
+    if (c.rejected[i] == 0) continue;
+    why += (why.empty() ? "" : ", ") + std::string(to_string(static_cast<Reject>(i))) + " " + std::to_string(c.rejected[i]);
+  }
+  if (!why.empty()) s += " (" + why + ")";
+  s += ", " + std::to_string(c.lost) + " lost";
+  if (c.session_changes > 0) s += ", " + std::to_string(c.session_changes) + " new session(s)";
+  if (c.resyncs > 0) s += ", " + std::to_string(c.resyncs) + " resync(s)";
+  return s;
+}
+
+void DecoderSettings::validate() const {
+  auto need = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument("decoder settings: " + what);
+  };
+  const std::size_t cap = type == FrameType::State ? kMaxStateValues : kMaxControlValues;
+  need(values >= 1 && values <= cap, "values must be in [1, " + std::to_string(cap) + "], got " + std::to_string(values));
+  need(time_bound > 0.0, "time_bound must be positive");
+  need(sequence_window >= 1 && sequence_window < (1u << 30), "sequence_window must be in [1, 2^30)");
+  need(resync_frames >= 2, "resync_frames must be >= 2 (one frame must never re-anchor the link)");
+  need(session_confirm >= 1, "session_confirm must be >= 1");
+}
+
+DecoderSettings state_decoder_settings(std::size_t n, double bound) {
+  DecoderSettings s;
+  s.type = FrameType::State;
+  s.values = n;
+  s.bound.fill(bound);
+  return s;
+}
+
+DecoderSettings control_decoder_settings(std::size_t m, double bound) {
+  DecoderSettings s;
+  s.type = FrameType::Control;
+  s.values = m;
+  s.bound.fill(bound);
+  return s;
+}
+
+std::uint32_t draw_session_id() {
+  std::random_device rd;
+  std::seed_seq seed{rd(), rd(), static_cast<unsigned>(::getpid()),
+                     static_cast<unsigned>(std::chrono::steady_clock::now().time_since_epoch().count())};
+  std::mt19937 g(seed);
+  std::uint32_t id = 0;
+  while (id == 0) id = static_cast<std::uint32_t>(g());
+  return id;
+}
 
 std::size_t cobs_encode(const std::uint8_t* in, std::size_t n, std::uint8_t* out) {
   std::size_t code_pos = 0, o = 1;
@@ -86,26 +185,24 @@ long cobs_decode(const std::uint8_t* in, std::size_t n, std::uint8_t* out, std::
 }
 
 std::size_t encode(const StateFrame& f, std::vector<std::uint8_t>& out) {
-  std::uint8_t p[kHeader + kStatePayload + 4];
-  p[0] = kProtocolVersion;
-  p[1] = static_cast<std::uint8_t>(FrameType::State);
-  put_u32(p + 2, f.seq);
+  std::uint8_t p[kHeader + 8 * (kMaxStateValues + 1) + 4];
+  const std::size_t n = std::min<std::size_t>(f.n, kMaxStateValues);
+  put_header(p, FrameType::State, f.session, f.seq, n);
   put_f64(p + kHeader, f.time);
-  for (std::size_t i = 0; i < 20; ++i) put_f64(p + kHeader + 8 * (i + 1), f.x[i]);
-  return finish_encode(p, kHeader + kStatePayload, out);
+  for (std::size_t i = 0; i < n; ++i) put_f64(p + kHeader + 8 * (i + 1), f.x[i]);
+  return finish_encode(p, kHeader + 8 * (n + 1), out);
 }
 
 std::size_t encode(const ControlFrame& f, std::vector<std::uint8_t>& out) {
-  std::uint8_t p[kHeader + kControlPayload + 4];
-  p[0] = kProtocolVersion;
-  p[1] = static_cast<std::uint8_t>(FrameType::Control);
-  put_u32(p + 2, f.seq);
-  for (std::size_t i = 0; i < 4; ++i) put_f64(p + kHeader + 8 * i, f.u[i]);
-  p[kHeader + 32] = f.flags;
-  return finish_encode(p, kHeader + kControlPayload, out);
+  std::uint8_t p[kHeader + 8 * kMaxControlValues + 1 + 4];
+  const std::size_t n = std::min<std::size_t>(f.n, kMaxControlValues);
+  put_header(p, FrameType::Control, f.session, f.seq, n);
+  for (std::size_t i = 0; i < n; ++i) put_f64(p + kHeader + 8 * i, f.u[i]);
+  p[kHeader + 8 * n] = f.flags;
+  return finish_encode(p, kHeader + 8 * n + 1, out);
 }
 
-Decoder::Decoder(FrameType expected, StateBounds bounds) : expected_(expected), bounds_(bounds) {}
+Decoder::Decoder(DecoderSettings s) : s_(s) { s_.validate(); }
 
 bool Decoder::push(std::uint8_t byte) {
   if (byte != 0x00) {
@@ -122,83 +219,128 @@ bool Decoder::push(std::uint8_t byte) {
   return ok;
 }
 
+bool Decoder::sequence_ok(std::uint32_t session, std::uint32_t seq) {
+  new_session_ = resynced_ = false;
+  skipped_ = 0;
+  const long window = static_cast<long>(s_.sequence_window);
+  if (!have_session_) {
+    have_session_ = true;
+    session_ = session;
+    last_seq_ = seq;
+    new_session_ = true;
+    have_run_ = false;
+    return true;
+  }
+  if (session == session_) {
+    const long d = ahead(seq, last_seq_);
+    if (d >= 1 && d <= window) {
+      skipped_ = d - 1;
+      counts_.lost += skipped_;
+      last_seq_ = seq;
+      have_run_ = false;  // the live session keeps the link
+      return true;
+    }
+  }
+  // Not acceptable on its own: does it continue a run of rejected frames?
+  const long d_run = ahead(seq, run_seq_);
+  if (have_run_ && session == run_session_ && d_run >= 1 && d_run <= window) {
+    ++run_length_;
+  } else {
+    have_run_ = session != 0;
+    run_session_ = session;
+    run_length_ = 1;
+  }
+  run_seq_ = seq;
+  const int needed = session == session_ ? s_.resync_frames : s_.session_confirm;
+  if (have_run_ && run_length_ >= needed) {
+    if (session == session_) {
+      resynced_ = true;
+      ++counts_.resyncs;
+    } else {
+      new_session_ = true;
+      ++counts_.session_changes;
+    }
+    session_ = session;
+    last_seq_ = seq;
+    have_run_ = false;
+    return true;
+  }
+  ++counts_[session == session_ ? Reject::Sequence : Reject::Session];
+  return false;
+}
+
 bool Decoder::finish() {
   if (n_ == 0 && !overflow_) return false;  // empty frame: line idle or resync
   if (overflow_) {
-    ++stats_.oversize;
+    ++counts_[Reject::Framing];
     return false;
   }
   const long len = cobs_decode(raw_.data(), n_, packet_.data(), packet_.size());
-  if (len < 0) {
-    ++stats_.bad_cobs;
+  if (len < 0 || static_cast<std::size_t>(len) < kHeader + 4) {
+    ++counts_[Reject::Framing];
     return false;
   }
   const std::size_t L = static_cast<std::size_t>(len);
-  if (L < kHeader + 4) {
-    ++stats_.bad_length;
-    return false;
-  }
   if (get_u32(packet_.data() + L - 4) != tmpc::crc32(packet_.data(), L - 4)) {
-    ++stats_.bad_crc;
+    ++counts_[Reject::Crc];
     return false;
   }
   if (packet_[0] != kProtocolVersion) {
-    ++stats_.bad_version;
+    ++counts_[Reject::Version];
     return false;
   }
-  if (packet_[1] != static_cast<std::uint8_t>(expected_)) {
-    ++stats_.unknown_type;
+  const std::size_t count = packet_[10];
+  const bool state = s_.type == FrameType::State;
+  const std::size_t payload = state ? 8 * (count + 1) : 8 * count + 1;
+  if (packet_[1] != static_cast<std::uint8_t>(s_.type) || count != s_.values || L != kHeader + payload + 4) {
+    ++counts_[Reject::Framing];
     return false;
   }
-  const std::size_t payload = expected_ == FrameType::State ? kStatePayload : kControlPayload;
-  if (L != kHeader + payload + 4) {
-    ++stats_.bad_length;
-    return false;
-  }
-  const std::uint32_t seq = get_u32(packet_.data() + 2);
+  const std::uint32_t session = get_u32(packet_.data() + 2);
+  const std::uint32_t seq = get_u32(packet_.data() + 6);
   const std::uint8_t* p = packet_.data() + kHeader;
-  // Decode the values, then the checks common to both types in one order:
-  // finite, within physical bounds, newer than the last accepted frame.
+  // Decode the values, then in one order: finite, within bounds, session and sequence.
   bool finite = true, inside = true;
-  if (expected_ == FrameType::State) {
+  auto check = [&](double v, std::size_t i) {
+    finite = finite && std::isfinite(v);
+    inside = inside && (s_.bound[i] <= 0.0 || std::abs(v) <= s_.bound[i]);
+  };
+  if (state) {
+    state_next_.session = session;
     state_next_.seq = seq;
+    state_next_.n = static_cast<std::uint8_t>(count);
     state_next_.time = get_f64(p);
     finite = std::isfinite(state_next_.time);
-    inside = std::abs(state_next_.time) <= bounds_.time;
-    for (std::size_t i = 0; i < 20; ++i) {
-      const double v = get_f64(p + 8 * (i + 1));
-      const double lim = i < 3 ? bounds_.position : (i < 10 ? bounds_.angle : bounds_.velocity);
-      state_next_.x[i] = v;
-      finite = finite && std::isfinite(v);
-      inside = inside && std::abs(v) <= lim;
+    inside = std::abs(state_next_.time) <= s_.time_bound;
+    for (std::size_t i = 0; i < count; ++i) {
+      state_next_.x[i] = get_f64(p + 8 * (i + 1));
+      check(state_next_.x[i], i);
     }
   } else {
+    control_next_.session = session;
     control_next_.seq = seq;
-    for (std::size_t i = 0; i < 4; ++i) {
-      const double v = get_f64(p + 8 * i);
-      control_next_.u[i] = v;
-      finite = finite && std::isfinite(v);
-      inside = inside && std::abs(v) <= 1e3;
+    control_next_.n = static_cast<std::uint8_t>(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      control_next_.u[i] = get_f64(p + 8 * i);
+      check(control_next_.u[i], i);
     }
-    control_next_.flags = p[32];
+    control_next_.flags = p[8 * count];
   }
-  long* reject = !finite ? &stats_.non_finite
-                 : !inside ? &stats_.out_of_bounds
-                 : (have_seq_ && static_cast<std::int32_t>(seq - last_seq_) <= 0) ? &stats_.stale_sequence
-                                                                                   : nullptr;
-  if (reject != nullptr) {
-    ++*reject;
+  if (!finite || !inside) {
+    ++counts_[!finite ? Reject::NonFinite : Reject::Bounds];
     return false;
   }
-  if (expected_ == FrameType::State) {
+  if (session == 0) {
+    ++counts_[Reject::Session];
+    return false;
+  }
+  if (!sequence_ok(session, seq)) return false;
+  if (state) {
     state_ = state_next_;
   } else {
     control_ = control_next_;
   }
-  if (have_seq_) stats_.sequence_gaps += static_cast<long>(seq - last_seq_ - 1);
-  have_seq_ = true;
-  last_seq_ = seq;
-  ++stats_.accepted;
+  ++counts_.accepted;
   return true;
 }
 

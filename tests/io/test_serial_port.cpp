@@ -32,9 +32,11 @@ TEST(SerialPort, FramesCrossAPseudoTerminalBothWays) {
   auto port = open_serial(pty.slave_path, 921600, &rep);
   EXPECT_FALSE(rep.low_latency && !rep.note.empty());
   std::vector<std::uint8_t> bytes;
-  Decoder at_controller(FrameType::State);
+  Decoder at_controller(state_decoder_settings(20));
   for (std::uint32_t k = 1; k <= 200; ++k) {
     StateFrame s;
+    s.session = 3;
+    s.n = 20;
     s.seq = k;
     s.time = 0.012 * k;
     s.x[0] = 0.5 + 0.001 * k;
@@ -42,21 +44,25 @@ TEST(SerialPort, FramesCrossAPseudoTerminalBothWays) {
     ASSERT_TRUE(pty.master->write_all(bytes.data(), bytes.size()));
     if (k % 50 == 0) ASSERT_EQ(pump(*port, at_controller, 50), 50);
   }
-  EXPECT_EQ(at_controller.stats().accepted, 200);
+  EXPECT_EQ(at_controller.counts().accepted, 200);
   EXPECT_EQ(at_controller.state().seq, 200u);
   EXPECT_DOUBLE_EQ(at_controller.state().x[0], 0.7);
   // Garbage, then a valid frame: the garbage is counted, the frame accepted.
   const std::uint8_t junk[] = {1, 2, 3, 0, 0x55, 0x66, 0};
   ASSERT_TRUE(pty.master->write_all(junk, sizeof(junk)));
   StateFrame s;
+  s.session = 3;
+  s.n = 20;
   s.seq = 201;
   encode(s, bytes);
   ASSERT_TRUE(pty.master->write_all(bytes.data(), bytes.size()));
   EXPECT_EQ(pump(*port, at_controller, 1), 1);
-  EXPECT_GE(at_controller.stats().rejected(), 2);
+  EXPECT_GE(at_controller.counts().rejected_total(), 2);
   // And back: control frames to the plant side.
-  Decoder at_plant(FrameType::Control);
+  Decoder at_plant(control_decoder_settings(4));
   ControlFrame c;
+  c.session = 4;
+  c.n = 4;
   c.seq = 7;
   c.u = {11.7, 11.8, 0.001, -0.002};
   c.flags = ControlFrame::kFallback;
