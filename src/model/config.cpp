@@ -1,7 +1,11 @@
 // YAML loading and validation of the design configuration.
 #include "tmpc/model/config.hpp"
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <initializer_list>
 #include <set>
@@ -9,6 +13,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <yaml-cpp/yaml.h>
+
+#include "tmpc/model/dynamics.hpp"
+#include "tmpc/model/equilibrium.hpp"
 
 namespace tmpc {
 
@@ -21,6 +28,21 @@ class Section {
   Section(YAML::Node node, std::string path, const std::string& file)
       : node_(std::move(node)), path_(std::move(path)), file_(file) {
     if (!node_ || !node_.IsMap()) fail(path_.empty() ? "(top level)" : path_, "expected a mapping");
+    // yaml-cpp keeps every duplicate and node[k] returns the first: a later value of
+    // the same key would be ignored silently. Keys must also be plain names.
+    std::set<std::string> seen;
+    for (const auto& kv : node_) {
+      if (!kv.first.IsScalar()) {
+        fail(path_.empty() ? "(top level)" : path_,
+             "a key must be a plain name, found a " + std::string(kv.first.IsSequence() ? "list" : "mapping") +
+                 " at line " + std::to_string(kv.first.Mark().line + 1));
+      }
+      const std::string k = kv.first.Scalar();
+      if (!seen.insert(k).second) {
+        fail(key(k), "duplicate key (again at line " + std::to_string(kv.first.Mark().line + 1) +
+                         "; only one value is allowed)");
+      }
+    }
   }
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
@@ -50,6 +72,15 @@ class Section {
       fail(key(k), os.str());
     }
     return v;
+  }
+  /// A whole number in [lo, hi] ("horizon: 20.7" is an error, not 20).
+  int integer_in(const std::string& k, long lo, long hi) {
+    const double v = number(k);
+    if (std::floor(v) != v) fail(key(k), "expected a whole number, got " + fmt(v));
+    if (v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
+      fail(key(k), "out of range: " + fmt(v) + " not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    return static_cast<int>(v);
   }
   double positive(const std::string& k) {
     const double v = number(k);
@@ -91,7 +122,7 @@ class Section {
   /// Report keys that were never read (typos, unsupported options).
   void finish() const {
     for (const auto& kv : node_) {
-      const std::string k = kv.first.as<std::string>();
+      const std::string k = kv.first.Scalar();
       if (used_.count(k) == 0) fail(key(k), "unknown key");
     }
   }
@@ -139,6 +170,19 @@ Eigen::Matrix3d inertia(Section& s, const std::string& k) {
   return m;
 }
 
+/// A rigid body's principal moments satisfy the triangle inequality I1 + I2 >= I3
+/// (each is a sum of two of the three second moments of the mass distribution).
+void require_physical_inertia(Section& s, const std::string& k, const Eigen::Matrix3d& m, const std::string& about = "") {
+  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m).eigenvalues();  // ascending
+  if (ev(0) <= 0.0) s.fail(s.key(k), "inertia" + about + " must be positive definite");
+  if (ev(0) + ev(1) < ev(2) * (1.0 - 1e-9)) {
+    std::ostringstream os;
+    os << "not the inertia of a rigid body" << about << ": principal moments " << ev(0) << ", " << ev(1) << ", "
+       << ev(2) << " kg m^2 violate the triangle inequality (" << ev(0) << " + " << ev(1) << " < " << ev(2) << ")";
+    s.fail(s.key(k), os.str());
+  }
+}
+
 double sign(Section& s, const std::string& k) {
   const double v = s.number(k);
   if (v != 1.0 && v != -1.0) s.fail(s.key(k), "must be +1 or -1");
@@ -151,6 +195,7 @@ void load_vehicle(Section v, VehicleParams& p) {
     Section s = v.section("load");
     p.load_mass = s.positive("mass");
     p.load_inertia = inertia(s, "inertia");
+    require_physical_inertia(s, "inertia", p.load_inertia);
     s.finish();
   }
   p.rod_length = v.positive("rod_length");
@@ -158,6 +203,7 @@ void load_vehicle(Section v, VehicleParams& p) {
     Section s = v.section("body");
     p.body_mass = s.positive("mass");
     p.body_inertia = inertia(s, "inertia");
+    require_physical_inertia(s, "inertia", p.body_inertia);
     p.d_a1b = vec3(s, "rod_to_origin");
     p.d_b1 = vec3(s, "com");
     s.finish();
@@ -175,13 +221,18 @@ void load_vehicle(Section v, VehicleParams& p) {
     p.drag_torque_ratio = s.number_in("drag_torque_ratio", 0.0, 1.0);
     p.spin_right = sign(s, "spin_right");
     p.spin_left = sign(s, "spin_left");
-    s.finish();
     if (p.rotor_inertia_reference == RotorInertiaReference::Pivot) {
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(p.rotor_inertia_about_com());
       if (es.eigenvalues().minCoeff() <= 0.0) {
-        v.fail(v.key("rotor.inertia"), "inertia about the pivot leaves a non-positive CoM inertia");
+        s.fail(s.key("inertia"), "inertia about the pivot leaves a non-positive CoM inertia");
       }
+      // Set S2 (about the pivot) is not a rigid body's inertia by construction (model
+      // spec 7.1): it is kept selectable for Rego's linear model, so only the CoM
+      // inertia it implies must be positive definite.
+    } else {
+      require_physical_inertia(s, "inertia", p.rotor_inertia);
     }
+    s.finish();
   }
   const auto fr = v.vector("friction", 10);
   for (std::size_t i = 0; i < 10; ++i) {
@@ -282,8 +333,8 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     Section s = root.section("perturbation");
     c.perturbation.fraction = s.number_in("fraction", 0.0, 0.9);
     c.perturbation.distribution = s.text("distribution", {"uniform", "normal"});
-    c.perturbation.seed = static_cast<unsigned>(s.number_in("seed", 0.0, 4294967295.0));
-    c.perturbation.runs = static_cast<int>(s.number_in("runs", 1.0, 1e6));
+    c.perturbation.seed = static_cast<unsigned>(s.integer_in("seed", 0, 2147483647L));
+    c.perturbation.runs = s.integer_in("runs", 1, 1000000);
     s.finish();
   }
 
@@ -336,14 +387,14 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
       }
       y.lmi_w_floor = l.number_in("w_floor", 0.0, 1.0);
       y.lmi_vertices = l.flag("vertices");
-      y.lmi_certify_steps = static_cast<int>(l.number_in("certify_steps", 0.0, 100.0));
+      y.lmi_certify_steps = l.integer_in("certify_steps", 0, 100);
       l.finish();
     }
     {
       Section r = s.section("rpi");
       y.rpi_variant = r.text("variant", {"lti", "lpv_thesis", "lpv_robust"});
       y.rpi_lambda = r.number_in("lambda", 1e-9, 1.0 - 1e-9);
-      y.verify_directions = static_cast<int>(r.number_in("verify_directions", 0.0, 1e6));
+      y.verify_directions = r.integer_in("verify_directions", 0, 1000000);
       r.finish();
     }
     {
@@ -362,14 +413,14 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
       }
       y.w_disturbance = vec3(w, "disturbance");
       if ((y.w_disturbance.array() < 0.0).any()) w.fail(w.key("disturbance"), "half-widths must be >= 0");
-      y.w_samples = static_cast<int>(w.number_in("samples", 1.0, 1e7));
+      y.w_samples = w.integer_in("samples", 1, 10000000);
       y.w_sample_fraction = w.number_in("sample_fraction", 0.0, 0.9);
       y.w_sample_box = w.number_in("sample_box", 0.0, 1.0);
       w.finish();
     }
     y.terminal_cost = s.text("terminal_cost", {"lqr", "lmi"});
-    y.horizon = static_cast<int>(s.number_in("horizon", 1.0, 1000.0));
-    y.control_horizon = static_cast<int>(s.number_in("control_horizon", 1.0, 1000.0));
+    y.horizon = s.integer_in("horizon", 1, kMaxHorizon);
+    y.control_horizon = s.integer_in("control_horizon", 1, kMaxHorizon);
     if (y.control_horizon > y.horizon) s.fail(s.key("control_horizon"), "must be <= horizon (M <= N)");
     s.finish();
   }
@@ -377,16 +428,82 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
   if (root.has("explicit")) {
     Section s = root.section("explicit");
     ExplicitSettings& e = c.explicit_mpc;
-    e.horizon = static_cast<int>(s.number_in("horizon", 1.0, 1000.0));
-    e.control_horizon = static_cast<int>(s.number_in("control_horizon", 1.0, 1000.0));
+    e.horizon = s.integer_in("horizon", 1, 100);
+    e.control_horizon = s.integer_in("control_horizon", 1, 100);
     if (e.control_horizon > e.horizon) s.fail(s.key("control_horizon"), "must be <= horizon (M <= N)");
     e.domain_fraction = s.number_in("domain_fraction", 1e-6, 1.0);
-    e.max_regions = static_cast<int>(s.number_in("max_regions", 1.0, 1e7));
+    e.max_regions = s.integer_in("max_regions", 1, 10000000);
     e.time_limit_s = s.number_in("time_limit_s", 1e-3, 1e6);
+    s.finish();
+  }
+  if (root.has("link")) {
+    Section s = root.section("link");
+    LinkSettings& l = c.link;
+    auto opt = [&](const char* k, double& v, double lo, double hi) {
+      if (s.has(k)) v = s.number_in(k, lo, hi);
+    };
+    auto opt_int = [&](const char* k, int& v, int lo, int hi) {
+      if (s.has(k)) v = s.integer_in(k, lo, hi);
+    };
+    opt_int("watchdog_periods", l.watchdog_periods, 1, 100000);
+    opt("plant_hold_s", l.plant_hold_s, 0.0, 1e4);
+    if (s.has("bounds")) {
+      Section b = s.section("bounds");
+      auto bound = [&](const char* k, double& v) {
+        if (b.has(k)) v = b.positive(k);
+      };
+      bound("position", l.bound_position);
+      bound("angle", l.bound_angle);
+      bound("yaw", l.bound_yaw);
+      bound("velocity", l.bound_velocity);
+      bound("angular_rate", l.bound_rate);
+      bound("time", l.bound_time);
+      b.finish();
+    }
+    if (s.has("jump")) {
+      Section j = s.section("jump");
+      auto jump = [&](const char* k, double& v) {
+        if (j.has(k)) v = j.positive(k);
+      };
+      jump("position", l.jump_position);
+      jump("angle", l.jump_angle);
+      jump("velocity", l.jump_velocity);
+      jump("angular_rate", l.jump_rate);
+      j.finish();
+    }
+    opt("time_tolerance", l.time_tolerance, 1e-3, 10.0);
+    opt_int("gate_horizon", l.gate_horizon, 1, 100000);
+    opt_int("resync_frames", l.resync_frames, 2, 1000);
+    opt_int("session_confirm", l.session_confirm, 1, 1000);
+    opt_int("sequence_window", l.sequence_window, 1, 1 << 29);
     s.finish();
   }
   root.finish();
   return c;
+}
+
+/// What the model can only tell once the whole vehicle is known: a hover equilibrium
+/// exists and its inputs are inside the actuator limits.
+void check_physics(const Config& c) {
+  Equilibrium eq;
+  try {
+    eq = solve_hover_equilibrium(TiltrotorModel(c.vehicle), c.reference.yaw);
+  } catch (const std::exception& e) {
+    throw ConfigError(c.source + ": vehicle: no hover equilibrium for these parameters (" + e.what() + ")");
+  }
+  static const char* const names[4] = {"right thrust f_r", "left thrust f_l", "right servo torque tau_r",
+                                       "left servo torque tau_l"};
+  const double mass = c.vehicle.load_mass + c.vehicle.body_mass + 2.0 * c.vehicle.rotor_mass;
+  for (int i = 0; i < 4; ++i) {
+    const bool low = eq.u(i) < c.input_min(i), high = eq.u(i) > c.input_max(i);
+    if (!low && !high) continue;
+    std::ostringstream os;
+    os << "the hover " << names[i] << " is " << eq.u(i) << (i < 2 ? " N" : " N m") << ", "
+       << (high ? "above the limit " : "below the limit ") << (high ? c.input_max(i) : c.input_min(i))
+       << " (vehicle mass " << mass << " kg: check vehicle masses or the limits)";
+    throw ConfigError(c.source + ": constraints." + (high ? "input_max[" : "input_min[") + std::to_string(i) +
+                      "]: " + os.str());
+  }
 }
 
 }  // namespace
@@ -399,21 +516,41 @@ Eigen::Matrix3d VehicleParams::rotor_inertia_about_com() const {
 }
 
 Config load_config_from_string(const std::string& yaml, const std::string& source) {
-  YAML::Node root;
+  std::vector<YAML::Node> docs;
   try {
-    root = YAML::Load(yaml);
+    docs = YAML::LoadAll(yaml);
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ": YAML syntax error: " + e.what());
   }
-  return parse(root, source);
+  if (docs.empty()) throw ConfigError(source + ": (top level): the file is empty");
+  if (docs.size() > 1) {
+    throw ConfigError(source + ": a second YAML document starts at line " + std::to_string(docs[1].Mark().line + 1) +
+                      " (a configuration is one document; remove the '---' or split the file)");
+  }
+  Config c = parse(docs[0], source);
+  check_physics(c);
+  return c;
 }
 
-Config load_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot open the file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return load_config_from_string(ss.str(), path);
+std::string read_config_file(const std::string& path, const char* what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw ConfigError(path + ": cannot open the " + what + ": " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw ConfigError(path + ": is a directory, not a " + what + " file");
+  if (!S_ISREG(st.st_mode)) {
+    throw ConfigError(path + ": not a regular file (a device, pipe or socket cannot be a " + what + ")");
+  }
+  if (st.st_size > kMaxConfigBytes) {
+    throw ConfigError(path + ": " + std::to_string(st.st_size) + " bytes: too large for a " + what + " (limit " +
+                      std::to_string(kMaxConfigBytes) + ")");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot open the " + what);
+  std::string text(static_cast<std::size_t>(st.st_size), '\0');
+  in.read(text.data(), st.st_size);
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  return text;
 }
+
+Config load_config(const std::string& path) { return load_config_from_string(read_config_file(path, "configuration"), path); }
 
 }  // namespace tmpc

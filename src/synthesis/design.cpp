@@ -35,6 +35,19 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+/// A numerical failure downstream of the config, named by the config section it came
+/// from (a ConfigError, like the config's own errors).
+template <class F>
+auto in_section(const Config& cfg, const char* section, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ConfigError(cfg.source + ": " + section + ": " + e.what());
+  }
+}
+
 /// W from the config: W_u (a box, fractions of the state half-widths, i.e. directly
 /// the normalized half-widths) plus W_d = D_z D (the force box on the load).
 Zonotope uncertainty_box(const ControllerDesign& d) {
@@ -181,7 +194,7 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
   auto t0 = Clock::now();
   say("linear error model along the helix");
   const TiltrotorModel model(cfg.vehicle);
-  d.em = build_error_model(cfg, model);
+  d.em = in_section(cfg, "reference (linearization and trim along the trajectory)", [&] { return build_error_model(cfg, model); });
   const Eigen::VectorXd nx_inv = d.em.N_x.cwiseInverse(), nu_inv = d.em.N_u.cwiseInverse();
   d.Sigma_rho_n = (cfg.state_weights.cwiseProduct(nx_inv).cwiseProduct(nx_inv)).asDiagonal();
   d.Sigma_lambda_n = (cfg.input_weights.cwiseProduct(nu_inv).cwiseProduct(nu_inv)).asDiagonal();
@@ -207,7 +220,8 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
 
   // Gains: LQR (also the fallback) and the two forms of Theorem 3.1.
   t0 = Clock::now();
-  const LqrResult lqr = solve_dlqr(d.em.A_n, d.em.B_n, d.Sigma_rho_n, d.Sigma_lambda_n);
+  const LqrResult lqr = in_section(cfg, "weights (the LQR gain's Riccati equation)",
+                                   [&] { return solve_dlqr(d.em.A_n, d.em.B_n, d.Sigma_rho_n, d.Sigma_lambda_n); });
   d.K_lqr = lqr.K;
   d.P_lqr = lqr.P;
   std::vector<std::string> names = {"lqr"};
@@ -278,7 +292,10 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
     if (d.gains[i].name == syn.tube_gain) d.selected = static_cast<int>(i);
   }
   GainDesign& sel = d.gains[static_cast<std::size_t>(d.selected)];
-  if (!sel.available) throw std::runtime_error("tube gain '" + syn.tube_gain + "' does not exist: " + sel.message);
+  if (!sel.available) {
+    throw ConfigError(cfg.source + ": synthesis.tube_gain: tube gain '" + syn.tube_gain +
+                      "' does not exist (synthesis.lmi, its SDP): " + sel.message);
+  }
   d.K = sel.K;
   // Per-vertex gains K_i of Theorem 3.3, from the selected family.
   for (std::size_t i = 1; i < d.vertices.size(); ++i) {
@@ -295,7 +312,8 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
   }
   d.L_terminal = syn.terminal_cost == "lmi" ? sel.lmi.L : d.P_lqr;
   if (syn.terminal_cost == "lmi" && !sel.lmi.feasible) {
-    throw std::runtime_error("terminal_cost: lmi needs an LMI tube gain (tube_gain is " + syn.tube_gain + ")");
+    throw ConfigError(cfg.source + ": synthesis.terminal_cost: lmi needs an LMI tube gain (tube_gain is " +
+                      syn.tube_gain + ")");
   }
   d.seconds.gains = since(t0);
 
@@ -325,7 +343,10 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
       g.tube_message = e.what();
     }
   }
-  if (!sel.tube_ok) throw std::runtime_error("tube of gain '" + sel.name + "': " + sel.tube_message);
+  if (!sel.tube_ok) {
+    throw ConfigError(cfg.source + ": synthesis.uncertainty and synthesis.rpi: the tube of gain '" + sel.name +
+                      "': " + sel.tube_message + " (a smaller W or a wider constraints.state_error_max)");
+  }
   d.x_bar = sel.x_bar;
   d.u_bar = sel.u_bar;
   d.margin = sel.margin;
@@ -360,8 +381,10 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
 
   // QP data.
   t0 = Clock::now();
-  d.qp = build_mpc_qp(d.em.A_n, d.em.B_n, d.Sigma_rho_n, d.Sigma_lambda_n, d.L_terminal, d.x_bar, d.u_bar,
-                      syn.horizon, syn.control_horizon);
+  d.qp = in_section(cfg, "synthesis.horizon", [&] {
+    return build_mpc_qp(d.em.A_n, d.em.B_n, d.Sigma_rho_n, d.Sigma_lambda_n, d.L_terminal, d.x_bar, d.u_bar,
+                        syn.horizon, syn.control_horizon);
+  });
   d.seconds.qp = since(t0);
   d.seconds.total = since(t_start);
   return d;

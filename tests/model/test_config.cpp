@@ -115,5 +115,96 @@ TEST(Config, SyntaxErrorAndMissingFile) {
   }
 }
 
+
+TEST(Config, DuplicateKeysAreErrorsNotASilentFirstValue) {
+  // mass: 50 then mass: 0.5 under vehicle.load: yaml-cpp would hand out the first.
+  expect_error(load_with("    mass: 0.5", "    mass: 50.0\n    mass: 0.5"), "vehicle.load.mass", "duplicate key");
+  expect_error(load_with("sample_time: 0.012", "sample_time: 0.012\nsample_time: 0.024"), "sample_time",
+               "duplicate key");
+}
+
+TEST(Config, KeysMustBePlainNames) {
+  expect_error(load_with("sample_time: 0.012", "sample_time: 0.012\n[a, b]: 1"), "(top level)",
+               "a key must be a plain name, found a list");
+  expect_error(load_with("  rod_length: 0.5", "  rod_length: 0.5\n  {a: 1}: 2"), "vehicle",
+               "a key must be a plain name, found a mapping");
+}
+
+TEST(Config, IntegersMustBeWhole) {
+  expect_error(load_with("horizon: 20 ", "horizon: 20.7 "), "synthesis.horizon", "expected a whole number, got 20.7");
+  expect_error(load_with("runs: 10", "runs: 2.5"), "perturbation.runs", "whole number");
+  expect_error(load_with("horizon: 20 ", "horizon: 5000 "), "synthesis.horizon", "out of range");
+}
+
+TEST(Config, ASecondYamlDocumentIsAnError) {
+  std::string text = default_text() + "\n---\nsample_time: 0.5\n";
+  try {
+    load_config_from_string(text, "bad.yaml");
+    FAIL() << "a second document was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml: a second YAML document starts at line"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(load_config_from_string("", "empty.yaml"), ConfigError);
+}
+
+TEST(Config, NonPhysicalInertiasAreRefused) {
+  // Principal moments 1, 1, 5 (x 1e-3): no mass distribution has them (1 + 1 < 5).
+  std::string text = default_text();
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"[4047.04e-6, 0.860582e-6, 9.65766e-6,", "[1.0e-3, 0.0, 0.0,"},
+                                 {"0.860582e-6, 881.618e-6, -0.873079e-6,", "0.0, 1.0e-3, 0.0,"},
+                                 {"9.65766e-6, -0.873079e-6, 4173.18e-6]", "0.0, 0.0, 5.0e-3]"}}) {
+    ASSERT_NE(text.find(from), std::string::npos) << from;
+    text.replace(text.find(from), from.size(), to);
+  }
+  std::string msg;
+  try {
+    load_config_from_string(text, "bad.yaml");
+  } catch (const ConfigError& e) {
+    msg = e.what();
+  }
+  expect_error(msg, "vehicle.body.inertia", "violate the triangle inequality");
+}
+
+TEST(Config, AHoverThrustOutsideTheInputLimitsIsNamed) {
+  // A 50 kg load needs about 255 N of thrust against a 30 N limit per rotor.
+  expect_error(load_with("    mass: 0.5", "    mass: 50.0"), "constraints.input_max[0]", "above the limit 30");
+  // Limits that leave no room below the hover thrust either.
+  expect_error(load_with("input_min: [0.0, 0.0, -2.0, -2.0]", "input_min: [20.0, 0.0, -2.0, -2.0]"),
+               "constraints.input_min[0]", "below the limit 20");
+}
+
+TEST(Config, LinkSectionIsOptionalAndValidated) {
+  const Config& c = test::default_config();
+  EXPECT_EQ(c.link.watchdog_periods, 10);
+  EXPECT_DOUBLE_EQ(c.link.plant_hold_s, 0.1);
+  expect_error(load_with("sample_time: 0.012", "sample_time: 0.012\nlink: {resync_frames: 1}"), "link.resync_frames",
+               "out of range");
+  expect_error(load_with("sample_time: 0.012", "sample_time: 0.012\nlink: {bounds: {speed: 3}}"), "link.bounds.speed",
+               "unknown key");
+  const std::string ok = load_with("sample_time: 0.012", "sample_time: 0.012\nlink: {watchdog_periods: 4, jump: {position: 0.2}}");
+  EXPECT_EQ(ok, "");
+}
+
+TEST(Config, SpecialAndHugeFilesAreClearErrors) {
+  auto message = [](const std::string& path) {
+    try {
+      load_config(path);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message("/dev/zero").find("/dev/zero: not a regular file"), std::string::npos) << message("/dev/zero");
+  EXPECT_NE(message("/tmp").find("/tmp: is a directory"), std::string::npos);
+  const std::string big = ::testing::TempDir() + "huge_config.yaml";
+  {
+    std::ofstream out(big);
+    out << default_text();
+    out << std::string(static_cast<std::size_t>(kMaxConfigBytes), '#') << "\n";
+  }
+  EXPECT_NE(message(big).find("too large"), std::string::npos) << message(big);
+}
+
 }  // namespace
 }  // namespace tmpc

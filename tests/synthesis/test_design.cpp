@@ -47,6 +47,21 @@ TEST(Design, EmptyTightenedSetIsAnErrorNamingTheDimension) {
   } catch (const std::runtime_error& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("empty in dimension"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("synthesis.uncertainty"), std::string::npos) << msg;  // the section it came from
+  }
+}
+
+TEST(Design, NumericalFailuresNameTheConfigSectionTheyCameFrom) {
+  Config c = test::quick_config();
+  c.source = "fast.yaml";
+  c.reference.angular_rate = 20.0;  // a helix at 2,000 m/s^2: no trim exists
+  try {
+    design_controller(c, "");
+    FAIL() << "a design without a trim was accepted";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("fast.yaml: reference"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("trim"), std::string::npos) << msg;
   }
 }
 

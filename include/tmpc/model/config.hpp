@@ -145,6 +145,26 @@ struct ExplicitSettings {
   double time_limit_s = 1800.0;
 };
 
+/// The serial link's safety rules (optional section `link`; DESIGN.md 5b, README
+/// "Serial protocol"). Plausibility gates on the measured state, the watchdogs of
+/// both sides and the protocol's session and sequence rules (io/protocol.hpp).
+struct LinkSettings {
+  int watchdog_periods = 10;        ///< controller: safe command after this many periods without a valid state
+  double plant_hold_s = 0.1;        ///< plant: hold the last input this long without a valid control, then hover
+  // Absolute bounds of a measured state (physical units) and of the time stamp.
+  double bound_position = 1e3, bound_angle = 1.6, bound_yaw = 1e3, bound_velocity = 20.0, bound_rate = 20.0;
+  double bound_time = 1e6;
+  // Jump gate: largest change of the measured error against its one-period model
+  // prediction, per group (physical units); 0: half of the group's widest half-width
+  // of the error box (state_error_max).
+  double jump_position = 0.0, jump_angle = 0.0, jump_velocity = 0.0, jump_rate = 0.0;
+  double time_tolerance = 0.5;      ///< time stamps within this fraction of a period of the expected advance
+  int gate_horizon = 50;            ///< periods: after a longer silence the jump gate has no prediction
+  int resync_frames = 3;            ///< consecutive self-consistent rejected frames adopted as the new track
+  int session_confirm = 2;          ///< consecutive frames of a new session before it is adopted
+  int sequence_window = 1000;       ///< sequence numbers accepted ahead of the last one
+};
+
 struct Config {
   std::string source;  // file the config came from (for messages)
   VehicleParams vehicle;
@@ -162,11 +182,22 @@ struct Config {
   TubeLawSettings tube_law;       // optional section `tube_law` (defaults above)
   SynthesisSettings synthesis;
   ExplicitSettings explicit_mpc;  // optional section `explicit` (defaults above)
+  LinkSettings link;              // optional section `link` (defaults above)
 };
+
+/// Largest horizon N (and M) a configuration or an artifact may give: the condensed
+/// QP has (M m + N n) rows of M m entries.
+constexpr int kMaxHorizon = 200;
+/// Largest configuration (or scenario) file read, in bytes.
+constexpr long kMaxConfigBytes = 1 << 20;
 
 /// Load and validate a YAML config. Throws ConfigError naming file and key.
 Config load_config(const std::string& path);
 /// Same from a string (tests); `source` names it in messages.
 Config load_config_from_string(const std::string& yaml, const std::string& source);
+/// The text of a YAML file for a loader: a regular file of at most kMaxConfigBytes
+/// (a directory, a device such as /dev/zero or a pipe is an error naming the path).
+/// `what` names the kind of file in messages ("configuration", "scenario").
+std::string read_config_file(const std::string& path, const char* what);
 
 }  // namespace tmpc
