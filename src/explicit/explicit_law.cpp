@@ -2,9 +2,11 @@
 #include "tmpc/explicit/explicit_law.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "tmpc/model/checksum.hpp"
+#include "tmpc/model/config.hpp"
 #include "tmpc/qp/parametric_qp.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/record_file.hpp"
@@ -145,13 +147,18 @@ std::vector<std::uint8_t> serialize_explicit(const ExplicitLaw& law) {
 ExplicitLaw deserialize_explicit(const std::vector<std::uint8_t>& bytes, const std::string& source) {
   RecordReader r(bytes, kMagic, kExplicitVersion, source, "explicit MPC law");
   ExplicitLaw law;
-  law.n = r.integer("n", 1, 10000);
-  law.nz = r.integer("nz", 0, 100000);
-  law.N = r.integer("N", 1, 100000);
+  law.n = r.integer("n", 1, 1000);
+  law.nz = r.integer("nz", 1, 100 * kMaxHorizon);
+  law.N = r.integer("N", 1, kMaxHorizon);
   law.M = r.integer("M", 1, law.N);
   const int regions = r.integer("regions", 0, 1 << 24);
   law.artifact_crc = static_cast<std::uint32_t>(r.integer("artifact_crc", 0, 0xffffffffLL));
   law.domain_fraction = r.matrix("domain_fraction", 1, 1)(0, 0);
+  if (!(law.domain_fraction > 0.0 && law.domain_fraction <= 1.0)) {
+    std::ostringstream os;
+    os << "record 'domain_fraction' is " << law.domain_fraction << ", must be in (0, 1]";
+    r.fail(os.str());
+  }
   law.domain = Box(r.matrix("domain_lo", law.n, 1), r.matrix("domain_hi", law.n, 1));
   const Eigen::MatrixXd& rb = r.matrix("row_begin", regions + 1, 1);
   auto index = [&](double v, long long lo, long long hi, const std::string& what) {
@@ -208,7 +215,8 @@ ExplicitLaw deserialize_explicit(const std::vector<std::uint8_t>& bytes, const s
   s.coverage_checked = static_cast<int>(bs(9));
   s.stop_reason = r.text("stop_reason");
   r.finish();
-  if (law.domain.empty()) r.fail("the domain is empty");
+  if (law.domain.empty()) r.fail("record 'domain_lo': the domain is empty in dimension " + std::to_string(law.domain.first_empty_dimension()));
+  if (law.nz % law.M != 0) r.fail("record 'nz' = " + std::to_string(law.nz) + " is not a multiple of M = " + std::to_string(law.M));
   return law;
 }
 
@@ -223,7 +231,19 @@ ExplicitLaw load_explicit(const std::string& path, const ControllerArtifact* a) 
                             std::to_string(law.artifact_crc) + ", this artifact's is " + std::to_string(crc) +
                             "); rebuild it with `tmpc explicit`");
     }
-    if (a->n != law.n || a->m * law.M != law.nz) throw RecordFileError(path + ": sizes disagree with the artifact");
+    if (a->n != law.n || a->m * law.M != law.nz) {
+      throw RecordFileError(path + ": records 'n' = " + std::to_string(law.n) + " and 'nz' = " + std::to_string(law.nz) +
+                            " disagree with the artifact (" + std::to_string(a->n) + " states, " + std::to_string(a->m) +
+                            " inputs, M = " + std::to_string(law.M) + ")");
+    }
+    for (int i = 0; i < law.n; ++i) {
+      if (law.domain.lo(i) < a->x_bar.lo(i) - 1e-9 || law.domain.hi(i) > a->x_bar.hi(i) + 1e-9) {
+        throw RecordFileError(path + ": record 'domain_lo': dimension " + std::to_string(i) + " [" +
+                              std::to_string(law.domain.lo(i)) + ", " + std::to_string(law.domain.hi(i)) +
+                              "] leaves the artifact's tightened state set [" + std::to_string(a->x_bar.lo(i)) + ", " +
+                              std::to_string(a->x_bar.hi(i)) + "]");
+      }
+    }
   }
   return law;
 }

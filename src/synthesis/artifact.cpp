@@ -107,9 +107,10 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
   a.tube_gain = r.text("tube_gain");
   a.rpi_variant = r.text("rpi_variant");
   a.terminal_cost = r.text("terminal_cost");
-  a.n = integer("n", 1, 10000);
-  a.m = integer("m", 1, 10000);
-  a.N = integer("N", 1, 100000);
+  // Sizes first, bounded before anything is built from them.
+  a.n = integer("n", 1, 1000);
+  a.m = integer("m", 1, 100);
+  a.N = integer("N", 1, kMaxHorizon);
   a.M = integer("M", 1, a.N);
   const int n = a.n, m = a.m;
   a.sample_time = mat("sample_time", 1, 1)(0, 0);
@@ -136,8 +137,7 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
   a.angles_eq = mat("angles_eq", 4, 1);
   a.margin = mat("margin", 1, 1)(0, 0);
   r.finish();
-  if (!(a.sample_time > 0.0)) throw ArtifactError(source + ": sample_time must be positive");
-  if (a.x_bar.empty() || a.u_bar.empty()) throw ArtifactError(source + ": a tightened set is empty");
+  check_artifact(a, source);
   return a;
 }
 

@@ -1,6 +1,9 @@
 // Record container: writer and strict reader (format in record_file.hpp).
 #include "tmpc/synthesis/record_file.hpp"
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -176,9 +179,20 @@ void RecordReader::finish() const {
 }
 
 std::vector<std::uint8_t> read_binary_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw RecordFileError(path + ": cannot open the file: " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw RecordFileError(path + ": is a directory, not a file");
+  if (!S_ISREG(st.st_mode)) throw RecordFileError(path + ": not a regular file (a device, pipe or socket)");
+  if (st.st_size > kMaxRecordFileBytes) {
+    throw RecordFileError(path + ": " + std::to_string(st.st_size) + " bytes, more than the " +
+                          std::to_string(kMaxRecordFileBytes) + " a record file may have");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw RecordFileError(path + ": cannot open the file");
-  return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(st.st_size));
+  in.read(reinterpret_cast<char*>(bytes.data()), st.st_size);
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  return bytes;
 }
 
 void write_binary_file(const std::string& path, const std::vector<std::uint8_t>& bytes) {

@@ -112,6 +112,35 @@ TEST(ExplicitLaw, CompanionFileRoundTripsAndRejectsCorruptionAndAnotherArtifact)
   } catch (const RecordFileError& e) {
     EXPECT_NE(std::string(e.what()).find("another controller artifact"), std::string::npos) << e.what();
   }
+  // Semantics behind a valid checksum: a domain beyond the artifact's tightened set, a
+  // domain fraction outside (0, 1], an empty domain.
+  ExplicitLaw wide = law();
+  wide.domain.hi(3) = artifact().x_bar.hi(3) * 2.0;
+  save_explicit(wide, path);
+  try {
+    load_explicit(path, &artifact());
+    FAIL() << "a domain outside x_bar was accepted";
+  } catch (const RecordFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("record 'domain_lo': dimension 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("leaves the artifact's tightened state set"), std::string::npos) << e.what();
+  }
+  ExplicitLaw frac = law();
+  frac.domain_fraction = 1.5;
+  try {
+    deserialize_explicit(serialize_explicit(frac), "f.tmpcx");
+    FAIL() << "a domain fraction of 1.5 was accepted";
+  } catch (const RecordFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("record 'domain_fraction' is 1.5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("must be in (0, 1]"), std::string::npos) << e.what();
+  }
+  ExplicitLaw empty = law();
+  empty.domain.lo(0) = empty.domain.hi(0) + 1.0;
+  try {
+    deserialize_explicit(serialize_explicit(empty), "e.tmpcx");
+    FAIL() << "an empty domain was accepted";
+  } catch (const RecordFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("empty in dimension 0"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -85,3 +85,135 @@ TEST(Artifact, FuzzedMutationsAndTruncationsAreNeverAccepted) {
 
 }  // namespace
 }  // namespace tmpc
+
+namespace tmpc {
+namespace {
+
+/// The message of loading `a` (serialized with a valid checksum), "" when it loads.
+std::string semantic_error(const ControllerArtifact& a) { return error_of(serialize_artifact(a)); }
+
+ControllerArtifact good() { return deserialize_artifact(bytes(), "t.tmpc"); }
+
+void expect_refused(const ControllerArtifact& a, const std::string& record, const std::string& what) {
+  const std::string m = semantic_error(a);
+  EXPECT_NE(m.find("t.tmpc"), std::string::npos) << m;
+  EXPECT_NE(m.find("record '" + record + "'"), std::string::npos) << "record '" << record << "' not named in: " << m;
+  EXPECT_NE(m.find(what), std::string::npos) << "'" << what << "' not in: " << m;
+}
+
+TEST(ArtifactSemantics, AFreshDesignPassesEveryCheck) { EXPECT_EQ(semantic_error(good()), ""); }
+
+TEST(ArtifactSemantics, DimensionsTheRuntimeDoesNotSupportAreRefused) {
+  ControllerArtifact a = good();
+  a.n = 30;  // the records stay 24-dimensional
+  expect_refused(a, "N_x", "expected 30x1");
+  // A consistent 30-state artifact: every record 30-dimensional.
+  a = good();
+  const int n = 30;
+  auto grow = [&](const Eigen::MatrixXd& m, bool square) {
+    Eigen::MatrixXd g = Eigen::MatrixXd::Identity(square ? n : m.rows() == a.n ? n : m.rows(), m.cols() == a.n ? n : m.cols());
+    g.topLeftCorner(m.rows(), m.cols()) = m;
+    return g;
+  };
+  ControllerArtifact b = a;
+  b.n = n;
+  b.N_x = grow(a.N_x, false).col(0);
+  b.N_x.tail(6).setOnes();
+  b.A = grow(a.A, true) * 0.5;
+  b.B = grow(a.B, false);
+  b.D = grow(a.D, false);
+  for (auto& v : b.A_vertices) v = grow(v, true) * 0.5;
+  b.K = grow(a.K, false);
+  b.K_lqr = grow(a.K_lqr, false);
+  b.P_lqr = grow(a.P_lqr, true);
+  b.L = grow(a.L, true);
+  b.Sigma_rho = grow(a.Sigma_rho, true);
+  for (Box* x : {&b.X, &b.x_bar}) *x = Box(grow(x->lo, false).col(0), grow(x->hi, false).col(0));
+  b.Z = Zonotope(grow(a.Z.c, false).col(0), grow(a.Z.G, false));
+  b.W = Zonotope(grow(a.W.c, false).col(0), grow(a.W.G, false));
+  expect_refused(b, "n", "is 30: this build's tiltrotor runtime flies 24 error states");
+}
+
+TEST(ArtifactSemantics, GainsThatDoNotStabilizeAreRefused) {
+  ControllerArtifact a = good();
+  a.K *= 100.0;
+  expect_refused(a, "K", "does not stabilize the nominal model");
+  a = good();
+  a.K = -a.K;
+  expect_refused(a, "K", "spectral radius");
+  a = good();
+  a.K_lqr *= -1.0;
+  expect_refused(a, "K_lqr", "does not stabilize");
+}
+
+TEST(ArtifactSemantics, ScalingsSetsAndCostAreChecked) {
+  ControllerArtifact a = good();
+  a.N_x(3) = -2.0;
+  expect_refused(a, "N_x", "entry 3 is -2, a scaling must be positive");
+  a = good();
+  a.N_u(0) = 0.0;
+  expect_refused(a, "N_u", "must be positive");
+  a = good();
+  a.x_bar.lo(5) = a.x_bar.hi(5) + 0.1;
+  expect_refused(a, "x_bar_lo", "empty in dimension 5");
+  a = good();
+  a.u_bar.hi = a.U.hi * 2.0;
+  expect_refused(a, "u_bar_lo", "not inside U");
+  a = good();
+  a.Sigma_lambda = -a.Sigma_lambda;
+  expect_refused(a, "Sigma_lambda", "positive definite");
+  a = good();
+  a.Sigma_rho(0, 1) = 5.0;  // not symmetric
+  expect_refused(a, "Sigma_rho", "not symmetric");
+  a = good();
+  a.margin = 0.5;
+  expect_refused(a, "margin", "margin >= 1");
+}
+
+TEST(ArtifactSemantics, RecordsMustAgreeWithTheEmbeddedConfiguration) {
+  ControllerArtifact a = good();
+  a.sample_time = 0.024;
+  expect_refused(a, "sample_time", "is 0.024, the embedded configuration gives 0.012");
+  a.sample_time = 1e300;
+  expect_refused(a, "sample_time", "must be in [1e-5, 1] s");
+  a = good();
+  a.tube_gain = "lmi_thesis";
+  expect_refused(a, "tube_gain", "synthesis.tube_gain is 'lqr'");
+  a = good();
+  a.M = 2;
+  expect_refused(a, "M", "synthesis.control_horizon is 4");
+  // The vehicle edited after the design: the body mass x 1.5 still configures a vehicle
+  // that can hover, but not the one the records were designed for.
+  a = good();
+  const std::string from = "mass: 1.7068";
+  a.config_text.replace(a.config_text.find(from), from.size(), "mass: 2.5602");
+  expect_refused(a, "u_eq", "the hover input of the embedded vehicle");
+  // x 10 cannot hover within the thrust limits: the embedded configuration is invalid.
+  a = good();
+  a.config_text.replace(a.config_text.find(from), from.size(), "mass: 17.068");
+  expect_refused(a, "config", "constraints.input_max[0]");
+  a = good();
+  a.config_text = "vehicle: [unclosed";
+  expect_refused(a, "config", "YAML syntax error");
+}
+
+TEST(ArtifactSemantics, AHugeHorizonIsRefusedBeforeAnythingIsBuilt) {
+  ControllerArtifact a = good();
+  a.N = 19220;
+  const std::string m = semantic_error(a);
+  EXPECT_NE(m.find("record 'N' = 19220 out of range [1, 200]"), std::string::npos) << m;
+}
+
+TEST(ArtifactSemantics, SpecialFilesAreClearErrors) {
+  for (const char* path : {"/dev/zero", "/tmp"}) {
+    try {
+      load_artifact(path);
+      FAIL() << path;
+    } catch (const ArtifactError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tmpc

@@ -65,6 +65,16 @@ struct ControllerArtifact {
 
 ControllerArtifact make_artifact(const ControllerDesign& d);
 
+/// What the records must mean before anything runs; throws ArtifactError naming the
+/// source, the record and the value: dimensions this build supports (24 states, 4
+/// inputs), 1 <= M <= N <= kMaxHorizon, a sample time in [1e-5, 1] s, positive
+/// scalings, non-empty sets with the tightened ones inside theirs, a convex cost (H
+/// positive definite), a tube gain stabilizing the nominal model and every vertex, a
+/// stabilizing LQR fallback, a margin >= 1, and an embedded configuration that is valid
+/// and agrees with the records (sample time, horizons, scalings, the gain and set
+/// variants, the hover equilibrium of its vehicle). deserialize_artifact() runs it.
+void check_artifact(const ControllerArtifact& a, const std::string& source);
+
 std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a);
 /// `source` names the data in error messages (a file name).
 ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, const std::string& source);

@@ -70,6 +70,9 @@ class RecordReader {
   std::set<std::string> used_;
 };
 
+/// Largest record file read (the explicit law of a long horizon is tens of MB).
+constexpr long kMaxRecordFileBytes = 512L << 20;
+/// A regular file of at most kMaxRecordFileBytes; throws RecordFileError naming the path.
 std::vector<std::uint8_t> read_binary_file(const std::string& path);
 void write_binary_file(const std::string& path, const std::vector<std::uint8_t>& bytes);
 

@@ -1,0 +1,53 @@
+# Build the artifact loader's libFuzzer target with clang (ASan + UBSan) from the
+# sources it needs, seed it with the payload of a quick real design, and fuzz for a
+# bounded time (each accepted input runs the semantic checks: a few ms).
+#   cmake -DCLANG=clang++ -DTMPC=<tmpc executable> -DSRC=<source dir> -DOUT=<scratch dir> [-DSECONDS=N] -P ...
+if(NOT SECONDS)
+  set(SECONDS 60)
+endif()
+file(REMOVE_RECURSE ${OUT}/corpus)
+file(MAKE_DIRECTORY ${OUT}/corpus)
+# The seed: a real artifact (the default configuration without the LMI comparison).
+file(READ ${SRC}/config/tiltrotor.yaml text)
+string(REPLACE "compare_gains: true" "compare_gains: false" text "${text}")
+string(REPLACE "verify_directions: 2000" "verify_directions: 100" text "${text}")
+file(WRITE ${OUT}/quick.yaml "${text}")
+execute_process(COMMAND ${TMPC} design --config ${OUT}/quick.yaml --out ${OUT}/seed.tmpc --report ${OUT}/seed.json
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "designing the seed artifact failed:\n${err}")
+endif()
+# Payload only: drop the 20-byte header and the 4-byte CRC.
+execute_process(COMMAND sh -c "tail -c +21 '${OUT}/seed.tmpc' | head -c -4 > '${OUT}/corpus/design'" RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "extracting the seed payload failed")
+endif()
+set(srcs)
+foreach(f synthesis/artifact synthesis/artifact_checks synthesis/record_file synthesis/lqr model/checksum model/config
+          model/dynamics model/kinematic_tree model/equilibrium model/state_layout qp/mpc_qp qp/disturbance_target
+          sets/box sets/zonotope)
+  list(APPEND srcs ${SRC}/src/${f}.cpp)
+endforeach()
+find_path(EIGEN_DIR Eigen/Core PATHS /usr/include/eigen3 /usr/local/include/eigen3 NO_DEFAULT_PATH)
+if(NOT EIGEN_DIR)
+  message(FATAL_ERROR "Eigen headers not found")
+endif()
+execute_process(COMMAND ${CLANG} -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+                        -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR}
+                        ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs} -lyaml-cpp -o ${OUT}/fuzz_artifact
+                RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "building the artifact fuzz target failed:\n${err}")
+endif()
+execute_process(COMMAND ${OUT}/fuzz_artifact -max_total_time=${SECONDS} -runs=200000 -seed=1 -max_len=2000000
+                        -rss_limit_mb=4096 ${OUT}/corpus
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fuzzing the artifact loader found a failure:\n${err}")
+endif()
+string(REGEX MATCH "Done [0-9]+ runs[^\n]*" done "${err}")
+string(REGEX MATCH "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" cov "${err}")
+if(NOT done)
+  message(FATAL_ERROR "the artifact fuzzer did not report its runs:\n${err}")
+endif()
+message(STATUS "fuzz_artifact: ${done} (${cov})")
