@@ -75,9 +75,14 @@ struct CrossCheckOptions {
   bool json = false;
 };
 
+#ifndef TMPC_HAVE_MUJOCO
+void run_crosscheck(const CrossCheckOptions&) {
+  throw std::runtime_error("crosscheck needs the MuJoCo plant: this build has none (built with TMPC_WITH_MUJOCO=OFF "
+                           "or without libmujoco-dev)");
+}
+#else
 void run_crosscheck(const CrossCheckOptions& o) {
   const Config cfg = load_config(o.config);
-  if (!mujoco_available()) throw std::runtime_error("crosscheck needs the MuJoCo plant: this build has none");
   const TiltrotorModel model(cfg.vehicle);
   MujocoPlant mj(cfg.vehicle, DisturbanceSchedule{}, cfg.simulation.substep);
   ElPlant el(cfg.vehicle, DisturbanceSchedule{}, cfg.simulation.substep);
@@ -143,6 +148,7 @@ void run_crosscheck(const CrossCheckOptions& o) {
   std::printf("  open loop, helix feedforward 2 s: %.3e m, %.3e rad\n", helix.first, helix.second);
   std::printf("  open loop, servo torque step 0.5 s: %.3e m, %.3e rad\n", servo.first, servo.second);
 }
+#endif
 
 }  // namespace
 

@@ -19,7 +19,7 @@
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/kinematic_tree.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
-#include "tmpc/sim/plant_loop.hpp"
+#include "tmpc/runtime/plant_loop.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
 namespace tmpc::cli {
@@ -38,25 +38,40 @@ void install_signals() {
 void print_controller(const ControllerLoopStats& s) {
   for (const std::string& m : s.realtime.not_set) std::fprintf(stderr, "tmpc controller: not set: %s\n", m.c_str());
   std::printf("controller: %ld periods, %ld with a state; optimizer used %ld, late %ld, busy %ld -> fallback %ld; "
-              "safe command %ld; clipped %ld; %ld period boundaries slept through\n",
+              "safe command %ld (watchdog %d periods); clipped %ld; %ld period boundaries slept through; "
+              "%ld law restarts\n",
               s.periods, s.states, s.optimizer_used, s.late, s.busy, s.fallback_periods, s.safe_periods,
-              s.clipped_periods, s.skipped);
+              s.watchdog_periods, s.clipped_periods, s.skipped, s.restarts);
   std::printf("  deadline misses: %ld (late %ld + busy %ld + skipped %ld)\n", s.late + s.busy + s.skipped, s.late, s.busy,
               s.skipped);
   std::printf("  wake-up latency p99 %.1f us, max %.1f us; period jitter max %.1f us; solve p50 %.1f us, max %.1f us\n",
               s.wake_latency_p99_us, s.wake_latency_max_us, s.period_jitter_max_us, s.solve_p50_us, s.solve_max_us);
-  std::printf("  link: %ld states accepted, %ld rejected, %ld lost (sequence gaps), %ld send failures; telemetry %llu "
-              "records, %llu dropped\n",
-              s.link.accepted, s.link.rejected(), s.link.sequence_gaps, s.send_failures, s.telemetry_records,
+  std::printf("  link (session %08x, plant %08x): states %s; %ld send failures; telemetry %llu records, %llu dropped\n",
+              s.session, s.peer_session, io::summary(s.link).c_str(), s.send_failures, s.telemetry_records,
               s.telemetry_dropped);
 }
 
 void print_plant(const PlantLoopStats& s) {
-  std::printf("plant: %ld periods, %ld without a control; RMSE x %.4f m, y %.4f m, z %.4f m; max position error %.3f m%s\n",
-              s.periods, s.periods_without_control, s.rmse[0], s.rmse[1], s.rmse[2], s.max_position_error,
-              s.diverged ? ", DIVERGED" : "");
-  std::printf("  control frames: %ld accepted (%ld fallback, %ld safe), %ld rejected\n", s.link.accepted,
-              s.fallback_frames, s.safe_frames, s.link.rejected());
+  std::printf("plant: %ld periods, %ld without a control (%ld held the last input, %ld on the safe command after %ld "
+              "link loss(es)%s); RMSE x %.4f m, y %.4f m, z %.4f m; max position error %.3f m%s\n",
+              s.periods, s.periods_without_control, s.held_periods, s.safe_command_periods, s.link_losses,
+              s.first_link_loss_s >= 0.0 ? (", first at " + std::to_string(s.first_link_loss_s) + " s").c_str() : "",
+              s.rmse[0], s.rmse[1], s.rmse[2], s.max_position_error, s.diverged ? ", DIVERGED" : "");
+  std::printf("  link (session %08x, controller %08x, %ld controller session(s)): controls %s (%ld fallback, %ld safe)\n",
+              s.session, s.peer_session, s.controller_sessions, io::summary(s.link).c_str(), s.fallback_frames,
+              s.safe_frames);
+}
+
+/// Link counts by reason for metrics.json.
+nlohmann::json link_json(const io::LinkCounts& c) {
+  nlohmann::json j;
+  j["accepted"] = c.accepted;
+  j["rejected"] = c.rejected_total();
+  for (std::size_t i = 0; i < io::kRejectReasons; ++i) j["rejected_by_reason"][io::to_string(static_cast<io::Reject>(i))] = c.rejected[i];
+  j["lost"] = c.lost;
+  j["session_changes"] = c.session_changes;
+  j["resyncs"] = c.resyncs;
+  return j;
 }
 
 struct RtCli {
@@ -143,8 +158,10 @@ void run_hil(const RtCli& o) {
   j["clipped_periods"] = cs.clipped_periods;
   j["solve_us"] = {{"p50", cs.solve_p50_us}, {"max", cs.solve_max_us}};
   j["wake_latency_us"] = {{"p99", cs.wake_latency_p99_us}, {"max", cs.wake_latency_max_us}};
-  j["link"] = {{"states_accepted", cs.link.accepted}, {"states_rejected", cs.link.rejected()},
-               {"controls_accepted", ps.link.accepted}, {"controls_rejected", ps.link.rejected()}};
+  j["link"] = {{"states", link_json(cs.link)}, {"controls", link_json(ps.link)}};
+  j["plant"] = {{"held_periods", ps.held_periods}, {"safe_command_periods", ps.safe_command_periods},
+                {"link_losses", ps.link_losses}, {"first_link_loss_s", ps.first_link_loss_s}};
+  j["law_restarts"] = cs.restarts;
   j["telemetry"] = {{"records", cs.telemetry_records}, {"dropped", cs.telemetry_dropped}};
   j["diverged"] = ps.diverged;
   std::ofstream(o.out + "/metrics.json") << j.dump(2) << "\n";

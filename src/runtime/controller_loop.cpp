@@ -9,121 +9,179 @@
 #include "tmpc/explicit/explicit_solver.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/reference.hpp"
-#include "tmpc/runtime/async_optimizer.hpp"
+#include "tmpc/runtime/state_gate.hpp"
 #include "tmpc/runtime/telemetry.hpp"
 #include "tmpc/runtime/tracking_error.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
 
 namespace tmpc {
 
+namespace {
+
+/// Percentiles of the per-period samples, after the loop.
+double percentile(std::vector<double>& v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
+
+}  // namespace
+
 ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transport& link,
-                                        const ControllerLoopOptions& o, const std::atomic<bool>& stop) {
+                                        const ControllerLoopOptions& o, const std::atomic<bool>& stop,
+                                        const ControllerLoopSeams& seams) {
   // Everything that allocates happens here, before the loop.
   const Config cfg = load_config_from_string(a.config_text, "artifact");
   const TiltrotorModel model(cfg.vehicle);
   const HelixTrajectory traj(cfg.reference, model);
+  const double T = a.sample_time;
   SolverOptions so;
   so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
   so.eta = cfg.solver.admm_eta;
   // A solve never outlives its period's deadline: past it the answer is useless, and
   // still running it would make the next period busy (the fallback twice).
-  so.time_budget_us = o.deadline_fraction * a.sample_time * 1e6;
+  so.time_budget_us = o.deadline_fraction * T * 1e6;
   const TubeControllerOptions law = tube_law_options(cfg, o.tube_law);
   TubeController ctrl(a, nullptr, law);
-  AsyncOptimizer optimizer(make_controller_solver(o.solver, a, so, o.explicit_law, law.offset_free), ctrl.parameters());
+  std::unique_ptr<AsyncOptimizer> own_optimizer;
+  Optimizer* optimizer = seams.optimizer;
+  if (optimizer == nullptr) {
+    own_optimizer = std::make_unique<AsyncOptimizer>(
+        make_controller_solver(o.solver, a, so, o.explicit_law, law.offset_free), ctrl.parameters());
+    optimizer = own_optimizer.get();
+  }
+  // The measured states (q, q'), their kinds and the gates.
+  constexpr int p = kNx;
+  const std::vector<StateKind> all_kinds = tiltrotor_state_kinds();
+  const std::vector<StateKind> kinds(all_kinds.begin(), all_kinds.begin() + p);
+  const Eigen::VectorXd half = a.N_x.head(p).cwiseInverse();
+  StateGate gate(a.A.topLeftCorner(p, p), a.B.topRows(p), a.N_x.head(p), a.N_u, kinds,
+                 state_gate_settings(cfg.link, kinds, half, T));
+  io::Decoder decoder(state_decoder_settings(cfg.link, kinds));
+  const int watchdog = o.silent_periods > 0 ? o.silent_periods : cfg.link.watchdog_periods;
   TrackingError err;
-  ctrl.reset(err.value());
   std::unique_ptr<TelemetryWriter> telemetry;
   if (!o.telemetry_csv.empty()) telemetry = std::make_unique<TelemetryWriter>(o.telemetry_csv);
-  io::Decoder decoder(io::FrameType::State);
   std::vector<std::uint8_t> out;
   out.reserve(128);
   std::uint8_t buf[1024];
-  const double T = a.sample_time;
   const long max_periods = o.duration_s > 0.0 ? static_cast<long>(o.duration_s / T + 0.5) : -1;
   std::vector<double> latency, solve;
   latency.reserve(max_periods > 0 ? static_cast<std::size_t>(max_periods) : 1u << 20);
   solve.reserve(latency.capacity());
+  Eigen::VectorXd e_meas = Eigen::VectorXd::Zero(p), u_tilde = Eigen::VectorXd::Zero(a.m);
   ControllerLoopStats st;
+  st.watchdog_periods = watchdog;
+  st.session = o.session != 0 ? o.session : io::draw_session_id();
   st.realtime = apply_realtime(o.realtime);
-  PeriodicClock clock(T);
-  io::StateFrame last{};
+  std::unique_ptr<PeriodicClock> own_clock;
+  LoopClock* clock = seams.clock;
+  if (clock == nullptr) {
+    own_clock = std::make_unique<PeriodicClock>(T);
+    clock = own_clock.get();
+  }
+  io::StateFrame last{}, cand{};
+  ReferencePoint r_last, r_cand;
   bool have_state = false;
   long silent = 0;
   std::uint32_t seq = 0;
   TelemetryRecord rec;
-  Eigen::Vector4d u_safe = a.u_eq;
-  bool controlled_last = false;  // the previous period sent the law's input for a fresh state
+  Eigen::Vector4d u_safe = a.u_eq, u_r_sent = a.u_eq;
+  bool controlled_last = false;   // the previous period sent the law's input for a fresh state
   double last_state_time = -1.0;  // plant time of the state that input was computed from
-  while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock.skipped() < max_periods)) {
-    const double lat = clock.wait();
+  while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock->skipped() < max_periods)) {
+    const double lat = clock->wait();
     latency.push_back(lat);  // within the reserved capacity
-    if (clock.last_period_us() > 0.0) {
-      st.period_jitter_max_us = std::max(st.period_jitter_max_us, std::abs(clock.last_period_us() - T * 1e6));
+    if (clock->last_period_us() > 0.0) {
+      st.period_jitter_max_us = std::max(st.period_jitter_max_us, std::abs(clock->last_period_us() - T * 1e6));
     }
-    bool fresh = false;
+    // The newest frame the decoder accepts this period; a new session or a re-anchored
+    // sequence starts a new track in the gate.
+    bool got = false, new_track = false;
     for (;;) {
       const long n = link.read_some(buf, sizeof(buf));
       if (n <= 0) break;
       for (long i = 0; i < n; ++i) {
         if (decoder.push(buf[i])) {
-          last = decoder.state();
-          fresh = true;
+          cand = decoder.state();
+          got = true;
+          new_track = new_track || decoder.new_session() || decoder.resynced();
         }
+      }
+    }
+    bool fresh = false, restart = false;
+    if (got) {
+      if (new_track) gate.reset();
+      r_cand = traj.at(cand.time);
+      State20 x;
+      for (int i = 0; i < p; ++i) x(i) = cand.x[static_cast<std::size_t>(i)];
+      TrackingError::measured(x, r_cand, e_meas);
+      const StateGate::Verdict v = gate.check(cand.time, cand.seq, e_meas, u_tilde);
+      if (StateGate::accepted(v)) {
+        fresh = true;
+        restart = v != StateGate::Verdict::Accepted;  // a new track: the law starts from it
+        last = cand;
+        r_last = r_cand;
+        st.peer_session = decoder.session();
       }
     }
     silent = fresh ? 0 : silent + 1;
     have_state = have_state || fresh;
     ++st.periods;
     io::ControlFrame cf;
+    cf.session = st.session;
     cf.seq = ++seq;
+    cf.n = static_cast<std::uint8_t>(a.m);
     rec = TelemetryRecord{};
     rec.period = static_cast<std::uint64_t>(st.periods);
-    rec.t = clock.elapsed_s();
+    rec.t = clock->elapsed_s();
     rec.wake_latency_us = lat;
-    rec.period_us = clock.last_period_us();
-    if (!have_state || silent > o.silent_periods) {
+    rec.period_us = clock->last_period_us();
+    if (!have_state || silent > watchdog) {
       // Safe command: the last feedforward with zero servo torques (hover before any state).
-      cf.u = {u_safe(0), u_safe(1), 0.0, 0.0};
+      cf.u[0] = u_safe(0);
+      cf.u[1] = u_safe(1);
+      cf.u[2] = cf.u[3] = 0.0;
       cf.flags = io::ControlFrame::kSafe;
       ++st.safe_periods;
       rec.safe_command = 1;
       controlled_last = false;
+      u_r_sent = u_safe;
     } else {
       ++st.states;
-      const ReferencePoint r = traj.at(last.time);
+      const ReferencePoint& r = r_last;
       const Eigen::Vector4d u_r = feedforward(model, r);
       u_safe = u_r;
       State20 x;
-      for (int i = 0; i < 20; ++i) x(i) = last.x[static_cast<std::size_t>(i)];
+      for (int i = 0; i < p; ++i) x(i) = last.x[static_cast<std::size_t>(i)];
+      if (restart) {
+        err.reset();
+        ctrl.reset(err.update(x, r));
+        controlled_last = false;
+        ++st.restarts;
+        rec.restart = 1;
+      }
       const Eigen::VectorXd& xt = err.update(x, r);
-      // The observer uses a residual only across one period of the law's own input.
-      // ... and only when the plant moved by one period since that state (a stall of
-      // either side makes the residual span several periods under inputs it did not
-      // see: a wrong force estimate).
+      // The observer uses a residual only across one period of the law's own input,
+      // and only when the plant moved by one period since that state (a stall of either
+      // side makes the residual span several periods under inputs it did not see).
       const bool one_period = std::abs(last.time - last_state_time - T) < 0.5 * T;
-      const std::uint64_t ticket = optimizer.start(ctrl.prepare(xt, fresh && controlled_last && one_period));
+      const std::uint64_t ticket = optimizer->start(ctrl.prepare(xt, fresh && controlled_last && one_period));
       controlled_last = fresh;
       last_state_time = last.time;
-      // Deadline inside the period.
-      const timespec deadline = add_ns(clock.next_wakeup(), static_cast<long>(o.deadline_fraction * T * 1e9));
+      const std::int64_t deadline =
+          clock->next_wakeup_ns() + static_cast<std::int64_t>(o.deadline_fraction * T * 1e9);
       const SolveResult* res = nullptr;
       if (ticket != 0) {
         // Poll until the result is there or the deadline passes; send at once.
-        timespec now{};
         for (;;) {
-          res = optimizer.poll(ticket);
-          clock_gettime(CLOCK_MONOTONIC, &now);
-          if (res != nullptr || diff_us(now, deadline) >= 0.0) break;
-          const timespec nap = add_ns(now, 20000);  // 20 us
-          clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, nap.tv_sec > deadline.tv_sec ||
-                                                                   (nap.tv_sec == deadline.tv_sec && nap.tv_nsec > deadline.tv_nsec)
-                                                               ? &deadline
-                                                               : &nap,
-                          nullptr);
+          res = optimizer->poll(ticket);
+          const std::int64_t now = clock->now_ns();
+          if (res != nullptr || now >= deadline) break;
+          clock->sleep_until_ns(std::min(now + 20000, deadline));  // 20 us naps
         }
         if (res == nullptr) {
-          optimizer.abandon(ticket);
+          optimizer->abandon(ticket);
           ++st.late;
         }
       } else {
@@ -140,6 +198,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       for (int i = 0; i < 4; ++i) cf.u[static_cast<std::size_t>(i)] = s.u(i);
       cf.flags = static_cast<std::uint8_t>((s.fallback ? io::ControlFrame::kFallback : 0) |
                                            (s.clipped ? io::ControlFrame::kClipped : 0));
+      u_r_sent = u_r;
       for (int i = 0; i < 24; ++i) {
         rec.x[i] = xt(i);
         rec.x_bar[i] = s.x_bar(i);
@@ -157,26 +216,28 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       rec.in_tube = s.in_tube;
       for (int i = 0; i < 3; ++i) rec.d_hat[i] = s.d_hat(i);
     }
+    // The input the plant holds until the next frame, in error coordinates (the gate's
+    // prediction of the next state).
+    for (int i = 0; i < a.m; ++i) u_tilde(i) = cf.u[static_cast<std::size_t>(i)] - u_r_sent(i);
     io::encode(cf, out);
     if (!link.write_all(out.data(), out.size(), 2)) ++st.send_failures;
+    const io::LinkCounts counts = decoder.counts().plus(gate.counts());
+    for (std::size_t i = 0; i < io::kRejectReasons; ++i) rec.link_rejects[i] = static_cast<std::int32_t>(counts.rejected[i]);
+    rec.peer_session = st.peer_session;
     if (telemetry) telemetry->push(rec);
   }
-  st.skipped = clock.skipped();
-  st.link = decoder.stats();
+  st.skipped = clock->skipped();
+  // Accepted: what passed both the decoder and the gate.
+  st.link = decoder.counts().plus(gate.counts());
+  st.link.accepted = gate.counts().accepted;
   if (telemetry) {
     st.telemetry_records = telemetry->pushed();
     st.telemetry_dropped = telemetry->dropped();
   }
-  std::sort(latency.begin(), latency.end());
-  if (!latency.empty()) {
-    st.wake_latency_max_us = latency.back();
-    st.wake_latency_p99_us = latency[std::min(latency.size() - 1, static_cast<std::size_t>(0.99 * latency.size()))];
-  }
-  std::sort(solve.begin(), solve.end());
-  if (!solve.empty()) {
-    st.solve_p50_us = solve[solve.size() / 2];
-    st.solve_max_us = solve.back();
-  }
+  st.wake_latency_p99_us = percentile(latency, 0.99);
+  st.wake_latency_max_us = latency.empty() ? 0.0 : latency.back();
+  st.solve_p50_us = percentile(solve, 0.5);
+  st.solve_max_us = solve.empty() ? 0.0 : solve.back();
   return st;
 }
 

@@ -67,34 +67,27 @@ double diff_us(const timespec& a, const timespec& b) {
   return static_cast<double>(a.tv_sec - b.tv_sec) * 1e6 + static_cast<double>(a.tv_nsec - b.tv_nsec) * 1e-3;
 }
 
-PeriodicClock::PeriodicClock(double period_s) : period_ns_(static_cast<long>(period_s * 1e9)) {
-  if (!(period_s > 0.0) || period_s > 10.0) throw std::invalid_argument("PeriodicClock: period must be in (0, 10] s");
-  clock_gettime(CLOCK_MONOTONIC, &start_);
-  next_ = start_;
-}
+PeriodicClock::PeriodicClock(double period_s) : LoopClock(period_s) { start(); }
 
-double PeriodicClock::wait() {
-  next_ = add_ns(next_, period_ns_);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next_, nullptr) == EINTR) {
-  }
+std::int64_t PeriodicClock::now_ns() const {
   timespec now{};
   clock_gettime(CLOCK_MONOTONIC, &now);
-  if (woke_) last_period_us_ = diff_us(now, last_wake_);
-  last_wake_ = now;
-  woke_ = true;
-  const double late_us = diff_us(now, next_);
-  const long behind = static_cast<long>(late_us * 1e3 / static_cast<double>(period_ns_));  // whole periods
-  if (behind > 0) {
-    next_ = add_ns(next_, behind * period_ns_);
-    skipped_ += behind;
-  }
-  return late_us;
+  return static_cast<std::int64_t>(now.tv_sec) * 1000000000LL + now.tv_nsec;
 }
 
-double PeriodicClock::elapsed_s() const {
-  timespec now{};
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  return diff_us(now, start_) * 1e-6;
+void PeriodicClock::sleep_until_ns(std::int64_t t_ns) {
+  timespec t{};
+  t.tv_sec = static_cast<time_t>(t_ns / 1000000000LL);
+  t.tv_nsec = static_cast<long>(t_ns % 1000000000LL);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &t, nullptr) == EINTR) {
+  }
+}
+
+timespec PeriodicClock::next_wakeup() const {
+  timespec t{};
+  t.tv_sec = static_cast<time_t>(next_wakeup_ns() / 1000000000LL);
+  t.tv_nsec = static_cast<long>(next_wakeup_ns() % 1000000000LL);
+  return t;
 }
 
 }  // namespace tmpc

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "tmpc/io/protocol.hpp"
 #include "tmpc/model/kinematic_tree.hpp"
 
 namespace tmpc {
@@ -16,7 +17,9 @@ TelemetryWriter::TelemetryWriter(const std::string& path, std::size_t capacity) 
   for (const char* n : kCoordNames) std::fprintf(f_, ",r_%s", n);
   for (int i = 0; i < 24; ++i) std::fprintf(f_, ",xbar%d", i);
   std::fprintf(f_, ",ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,u_f_r,u_f_l,u_tau_r,u_tau_l,status,iterations,solve_us,"
-                   "wake_latency_us,period_us,fallback,clipped,in_tube,safe_command,dhat_x,dhat_y,dhat_z\n");
+                   "wake_latency_us,period_us,fallback,clipped,in_tube,safe_command,dhat_x,dhat_y,dhat_z");
+  for (std::size_t i = 0; i < io::kRejectReasons; ++i) std::fprintf(f_, ",rejected_%s", io::to_string(static_cast<io::Reject>(i)));
+  std::fprintf(f_, ",peer_session,restart\n");
   thread_ = std::thread([this] { run(); });
 }
 
@@ -41,9 +44,11 @@ void TelemetryWriter::write(const TelemetryRecord& r) {
   for (double v : r.x_bar) std::fprintf(f_, ",%.9g", v);
   for (double v : r.u_bar) std::fprintf(f_, ",%.9g", v);
   for (double v : r.u) std::fprintf(f_, ",%.9g", v);
-  std::fprintf(f_, ",%d,%d,%.3f,%.3f,%.3f,%u,%u,%u,%u,%.6g,%.6g,%.6g\n", r.status, r.iterations, r.solve_us,
+  std::fprintf(f_, ",%d,%d,%.3f,%.3f,%.3f,%u,%u,%u,%u,%.6g,%.6g,%.6g", r.status, r.iterations, r.solve_us,
                r.wake_latency_us, r.period_us, r.fallback, r.clipped, r.in_tube, r.safe_command, r.d_hat[0], r.d_hat[1],
                r.d_hat[2]);
+  for (std::int32_t c : r.link_rejects) std::fprintf(f_, ",%d", c);
+  std::fprintf(f_, ",%u,%u\n", r.peer_session, r.restart);
 }
 
 void TelemetryWriter::run() {

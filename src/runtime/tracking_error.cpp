@@ -7,10 +7,14 @@
 
 namespace tmpc {
 
+void TrackingError::measured(const State20& x, const ReferencePoint& r, Eigen::VectorXd& e) {
+  e.head<10>() = x.head<10>() - r.q;
+  e(kPsi) = std::remainder(e(kPsi), 2.0 * M_PI);
+  e.segment<10>(10) = x.tail<10>() - r.qd;
+}
+
 const Eigen::VectorXd& TrackingError::update(const State20& x, const ReferencePoint& r) {
-  xt_.head<10>() = x.head<10>() - r.q;
-  xt_(kPsi) = std::remainder(xt_(kPsi), 2.0 * M_PI);
-  xt_.segment<10>(10) = x.tail<10>() - r.qd;
+  measured(x, r, xt_);
   xt_.tail<4>() = integral_;
   return xt_;
 }

@@ -30,16 +30,9 @@ void expect_no_allocation(const std::string& law) {
   for (int k = 0; k < 130; ++k) {
     const double t = 0.012 * k;
     const ReferencePoint r = traj.at(t);
-    io::StateFrame s;
-    s.seq = static_cast<std::uint32_t>(k + 1);
-    s.time = t;
-    for (int i = 0; i < 10; ++i) {
-      s.x[static_cast<std::size_t>(i)] = r.q(i) + (i < 3 ? 0.02 * std::sin(0.1 * k + i) : 0.0);  // off the reference
-      s.x[static_cast<std::size_t>(10 + i)] = r.qd(i);
-    }
-    std::vector<std::uint8_t> bytes;
-    io::encode(s, bytes);
-    frames.push_back(bytes);
+    Eigen::VectorXd off = Eigen::VectorXd::Zero(20);
+    for (int i = 0; i < 3; ++i) off(i) = 0.02 * std::sin(0.1 * k + i);  // off the reference
+    frames.push_back(test::state_bytes(9, static_cast<std::uint32_t>(k + 1), t, r, off));
   }
   std::atomic<bool> stop{false};
   // Counting on from the 10th period, off (and the loop stopped) at the 110th.

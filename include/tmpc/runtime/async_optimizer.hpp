@@ -19,7 +19,22 @@
 
 namespace tmpc {
 
-class AsyncOptimizer {
+/// What the real-time loop needs of its optimizer: start a solve, poll for it without
+/// blocking, abandon it at the deadline. AsyncOptimizer runs a QpSolver on its own
+/// thread; tests drive the loop with one whose solve times they script.
+class Optimizer {
+ public:
+  virtual ~Optimizer() = default;
+  /// A ticket (> 0), or 0 when a solve is still in flight or x0 is refused.
+  virtual std::uint64_t start(const Eigen::VectorXd& x0) = 0;
+  /// The result of `ticket` once finished, else null; never blocks.
+  virtual const SolveResult* poll(std::uint64_t ticket) const = 0;
+  /// The deadline passed without a result for `ticket`.
+  virtual void abandon(std::uint64_t ticket) = 0;
+  virtual bool busy() const = 0;
+};
+
+class AsyncOptimizer final : public Optimizer {
  public:
   /// Takes the solver; starts the worker thread. `n` is the size of x0.
   AsyncOptimizer(std::unique_ptr<QpSolver> solver, int n);
@@ -29,15 +44,15 @@ class AsyncOptimizer {
 
   /// Starts a solve from x0 and returns its ticket (> 0), or 0 when a solve is still
   /// in flight (or x0 has the wrong size): the period then uses the fallback.
-  std::uint64_t start(const Eigen::VectorXd& x0);
+  std::uint64_t start(const Eigen::VectorXd& x0) override;
   /// The result of `ticket` once that solve has finished, else null; never blocks.
   /// The result stays valid until the next start().
-  const SolveResult* poll(std::uint64_t ticket) const;
-  bool busy() const { return requested_.load(std::memory_order_acquire) != finished_.load(std::memory_order_acquire); }
+  const SolveResult* poll(std::uint64_t ticket) const override;
+  bool busy() const override { return requested_.load(std::memory_order_acquire) != finished_.load(std::memory_order_acquire); }
   /// Solves abandoned at a deadline (finished after it, or never used).
   long abandoned() const { return abandoned_; }
   /// Mark `ticket` abandoned (the deadline passed without a result).
-  void abandon(std::uint64_t ticket);
+  void abandon(std::uint64_t ticket) override;
   const char* solver_name() const { return solver_->name(); }
 
  private:

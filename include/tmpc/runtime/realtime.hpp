@@ -1,7 +1,6 @@
 // Real-time set-up of the calling thread and its periodic clock (PREEMPT_RT practice):
 // SCHED_FIFO priority, CPU affinity, mlockall and a prefaulted stack; periods by
-// clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME), with the wake-up latency and the
-// actual period measured. Without privileges it runs anyway and reports, once, what
+// clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME) (loop_clock.hpp for the period logic). Without privileges it runs anyway and reports, once, what
 // it could not set (the caller logs it outside the real-time path).
 #pragma once
 
@@ -10,6 +9,8 @@
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include "tmpc/runtime/loop_clock.hpp"
 
 namespace tmpc {
 
@@ -28,30 +29,14 @@ struct RealTimeReport {
 /// Applies the settings to the calling thread. Never throws for missing privileges.
 RealTimeReport apply_realtime(const RealTimeSettings& s);
 
-class PeriodicClock {
+/// The loop clock on CLOCK_MONOTONIC (clock_nanosleep, TIMER_ABSTIME).
+class PeriodicClock final : public LoopClock {
  public:
   explicit PeriodicClock(double period_s);
-  /// Sleeps until the next period boundary (absolute time: no drift). Returns the
-  /// wake-up latency in us (actual minus planned wake-up, >= 0 up to clock noise).
-  /// Woken a whole period late or more (the thread was not scheduled: a VM's steal
-  /// time, a higher-priority hog), it does not run the missed boundaries back to back:
-  /// the schedule moves to the last boundary before now and skipped() counts them.
-  double wait();
-  /// Period boundaries skipped after late wake-ups (each one a missed deadline).
-  long skipped() const { return skipped_; }
-  /// Time between the last two wake-ups (us); 0 before the second.
-  double last_period_us() const { return last_period_us_; }
-  /// Seconds since construction (CLOCK_MONOTONIC).
-  double elapsed_s() const;
-  /// The next planned wake-up (for a deadline inside the period, e.g. period start + d).
-  const timespec& next_wakeup() const { return next_; }
-
- private:
-  long period_ns_;
-  timespec start_{}, next_{}, last_wake_{};
-  double last_period_us_ = 0.0;
-  long skipped_ = 0;
-  bool woke_ = false;
+  std::int64_t now_ns() const override;
+  void sleep_until_ns(std::int64_t t_ns) override;
+  /// The planned wake-up of the current period as a timespec.
+  timespec next_wakeup() const;
 };
 
 /// t + ns as a normalized timespec.

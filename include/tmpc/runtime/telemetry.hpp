@@ -28,6 +28,9 @@ struct TelemetryRecord {
   double period_us = 0.0;        ///< since the previous wake-up (jitter = period_us - T)
   std::uint8_t fallback = 0, clipped = 0, in_tube = 1, safe_command = 0;
   double d_hat[3] = {};          ///< offset-free: estimated force on the load, N
+  std::int32_t link_rejects[9] = {};  ///< state frames rejected so far, by io::Reject
+  std::uint32_t peer_session = 0;     ///< the plant's session on the link
+  std::uint8_t restart = 0;           ///< the law restarted from this period's state
 };
 
 /// Lock-free ring for one producer and one consumer; capacity rounded up to a power of 2.

@@ -20,6 +20,9 @@ class TrackingError {
   TrackingError() : xt_(Eigen::VectorXd::Zero(24)) {}
   /// x_tilde at the measured state x (q, q') and the reference point r; no allocation.
   const Eigen::VectorXd& update(const State20& x, const ReferencePoint& r);
+  /// The measured part of x_tilde (q - q_r, q' - q_r', psi wrapped; 20 entries) into
+  /// `e` (sized 20), without touching the integrals. No allocation.
+  static void measured(const State20& x, const ReferencePoint& r, Eigen::VectorXd& e);
   /// After the period: integrate the x, y, z, psi errors over dt (rectangle rule, 5.7).
   void integrate(double dt);
   void reset() { integral_.setZero(); xt_.setZero(); }
