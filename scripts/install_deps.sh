@@ -2,7 +2,7 @@
 # Install the Debian packages tmpc needs (only those missing). Idempotent.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache
   libeigen3-dev libspdlog-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libmujoco-dev libsdp-dev coinor-libclp-dev

@@ -15,6 +15,29 @@
 
 namespace tmpc {
 
+namespace {
+
+/// A solver that hands every parameter it is given to a list, then solves.
+class RecordingSolver final : public QpSolver {
+ public:
+  RecordingSolver(std::unique_ptr<QpSolver> inner, std::vector<Eigen::VectorXd>* out)
+      : inner_(std::move(inner)), out_(out) {}
+  const SolveResult& solve(const Eigen::VectorXd& x0) override {
+    out_->push_back(x0);
+    return inner_->solve(x0);
+  }
+  void reset() override { inner_->reset(); }
+  const char* name() const override { return inner_->name(); }
+  const ParametricQp& problem() const override { return inner_->problem(); }
+  const SolverOptions& options() const override { return inner_->options(); }
+
+ private:
+  std::unique_ptr<QpSolver> inner_;
+  std::vector<Eigen::VectorXd>* out_;
+};
+
+}  // namespace
+
 MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o) {
   Config cfg = load_config_from_string(a.config_text, "artifact");
   if (o.seed >= 0) cfg.perturbation.seed = static_cast<unsigned>(o.seed);
@@ -26,7 +49,9 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
   so.eta = cfg.solver.admm_eta;
   TubeControllerOptions to = tube_law_options(cfg, o.tube_law, o.observer_gain);
   to.reinitialize_nominal = o.reinitialize_nominal;
-  TubeController ctrl(a, make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free), to);
+  std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
+  if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
+  TubeController ctrl(a, std::move(solver), to);
 
   MissionMetrics m;
   m.solver = o.solver;
@@ -86,6 +111,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o)
     m.fallback_periods += s.fallback;
     m.clipped_periods += s.clipped;
     m.state_constraint_violations += !s.in_state_box;
+    for (int i = 0; i < 3; ++i) m.d_hat_final[static_cast<std::size_t>(i)] = s.d_hat(i);
     std::size_t w = 0;  // the disturbance window of this period
     if (o.disturbance) {
       while (w < step_times.size() && t >= step_times[w]) ++w;

@@ -308,11 +308,12 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
     }
     const double eps_p = opt_.eps_abs + opt_.eps_rel * std::max(inf_norm(Ax_), inf_norm(tmp_m_));
     const double eps_d = opt_.eps_abs + opt_.eps_rel * std::max({inf_norm(Hx_), inf_norm(Aty_), f_norm});
-    if (r_prim <= eps_p && r_dual <= eps_d) {
+    const bool within_eps = r_prim <= eps_p && r_dual <= eps_d;
+    if (within_eps && !opt_.polish) {
       res.status = SolveStatus::Converged;
       break;
     }
-    if (primal_infeasible(lo, hi)) {
+    if (!within_eps && primal_infeasible(lo, hi)) {
       res.status = SolveStatus::Infeasible;
       break;
     }
@@ -320,12 +321,19 @@ void DenseAdmm::solve(const Eigen::VectorXd& f_in, const Eigen::VectorXd& lo_in,
       res.status = SolveStatus::TimeBudget;
       break;
     }
+    // The finish runs at every check, also when the residuals already meet epsilon:
+    // then the ADMM iterate is only eps-accurate, the finish makes it exact (the
+    // iterate is returned only if the finish fails there).
     if (opt_.polish && try_polish(f, lo, hi, r_prim <= kPolishBand * eps_p && r_dual <= kPolishBand * eps_d)) {
       // x_, z_ = A x_, y_ now the exact KKT point of the guessed active set.
       Hx_.noalias() = H_ * x_;
       Aty_.noalias() = A_.transpose() * y_;
       res.primal_residual = 0.0;
       res.dual_residual = inf_norm((Hx_ + f + Aty_).cwiseQuotient(D_)) / c_;
+      res.status = SolveStatus::Converged;
+      break;
+    }
+    if (within_eps) {
       res.status = SolveStatus::Converged;
       break;
     }

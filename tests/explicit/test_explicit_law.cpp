@@ -36,7 +36,9 @@ const ExplicitLaw& law() {
 TEST(ExplicitLaw, CaseStudyPartitionIsCompleteAndMatchesTheReferenceAt100kPoints) {
   const ExplicitLaw& l = law();
   ASSERT_TRUE(l.stats.complete) << l.stats.stop_reason;
-  EXPECT_GT(l.regions(), 50);
+  // README: 399 regions (N = 2, M = 1, half of the tightened box); LP round-off may
+  // move a degenerate region or two on another machine.
+  EXPECT_NEAR(l.regions(), 399, 4);
   EXPECT_EQ(l.stats.unresolved_facets, 0);
   const MpQp mp = explicit_mpqp(artifact(), options());
   auto ref = make_reference_solver(mp.as_parametric());
@@ -68,7 +70,7 @@ TEST(ExplicitLaw, CaseStudyPartitionIsCompleteAndMatchesTheReferenceAt100kPoints
               worst);
 }
 
-TEST(ExplicitLaw, SolverReportsInfeasibleOutsideThePartitionAndAllocatesNothingPerSolve) {
+TEST(ExplicitLaw, SolverReportsInfeasibleOutsideThePartitionAndRefusesInvalidInput) {
   auto s = make_explicit_solver(artifact(), law());
   const Eigen::VectorXd center = law().domain.center();
   EXPECT_EQ(s->solve(center).status, SolveStatus::Converged);

@@ -103,6 +103,7 @@ using test::expect_parity;
 TEST(GpuKernelOnHost, ExactVariantMatchesCpuTwinOnFiveHundredQps) {
   const ParityStats st = parity<float>(gpu::kExact, 1, case_study_states(500, 3), false);
   expect_parity(st);
+  test::expect_exact_twin(st, 10);  // measured: 3 of 500, one check apart
   // KKT of the float solutions, in double: consistent with epsilon = 1e-3.
   EXPECT_LE(st.worst_prim, 5e-3);
   EXPECT_LE(st.worst_stat, 5e-3);
@@ -141,7 +142,10 @@ TEST(GpuKernelOnHost, ThesisVariantMatchesItsCpuTwin) {
 TEST(GpuKernelOnHost, ParallelTeamComputesWhatOneThreadDoes) {
   // Eight threads split every product and reduction as a thread block does.
   const auto xs = case_study_states(6, 5);
-  expect_parity(parity<float>(gpu::kExact, 8, xs, false));
+  const ParityStats one = parity<float>(gpu::kExact, 1, xs, false), eight = parity<float>(gpu::kExact, 8, xs, false);
+  expect_parity(eight);
+  test::expect_exact_twin(eight, 0);
+  EXPECT_EQ(eight.iters_gpu, one.iters_gpu);  // the same iterations as one thread
   expect_parity(parity<float>(gpu::kExact, 3, xs, true));  // uneven split, warm start across solves
   expect_parity(parity<double>(gpu::kThesis, 4, case_study_states(2, 6), false));
 }

@@ -25,6 +25,9 @@ struct MissionOptions {
   double observer_gain = 0.0;     ///< > 0: overrides the config's
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
+  /// When set, every period's QP parameter (what the solver was given) is appended:
+  /// the mission's QPs, for tests and benchmarks.
+  std::vector<Eigen::VectorXd>* record_qps = nullptr;
 };
 
 struct MissionMetrics {
@@ -44,6 +47,7 @@ struct MissionMetrics {
   /// its last period outside the tube: how long the transient lasted (0: no exit).
   std::vector<double> tube_settle_s_per_step;
   std::string tube_worst_state;
+  std::array<double, 3> d_hat_final{};     ///< offset-free: the force estimate at the end, N
   std::string solver, plant;
   bool offset_free = false;                 ///< the tube law flown
   bool diverged = false;                    ///< the state became non-finite or left 10x the box

@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""CLI checks that read numbers, not patterns: every command's exit code is checked
+and its figures are parsed and compared with what the README states.
+
+    check_cli.py TMPC CONFIG SCRATCH CHECK    (CHECK: openloop-el | openloop-mujoco |
+                                               unknown-plant | crosscheck | devices | batch)
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+tmpc, config, scratch, check = sys.argv[1:5]
+os.makedirs(scratch, exist_ok=True)
+failures = []
+
+
+def run(*args, expect_rc=0):
+    p = subprocess.run([tmpc, *args], capture_output=True, text=True, timeout=600)
+    if expect_rc is not None and p.returncode != expect_rc:
+        sys.exit(f"tmpc {' '.join(args)}: exit code {p.returncode}, expected {expect_rc}\n{p.stdout}{p.stderr}")
+    return p
+
+
+def need(ok, what):
+    if not ok:
+        failures.append(what)
+
+
+def number(pattern, text):
+    m = re.search(pattern, text)
+    if not m:
+        sys.exit(f"'{pattern}' not in:\n{text}")
+    return float(m.group(1))
+
+
+if check.startswith("openloop-"):
+    plant = check.split("-", 1)[1]
+    out = run("openloop", "--config", config, "--plant", plant, "--duration", "2").stdout
+    drift = number(r"load within ([0-9.e+-]+) m of the reference", out)
+    # README: the trimmed reference keeps the open-loop plant within 1 cm for 2 s.
+    need(0.0 <= drift < 0.01, f"open-loop drift {drift} m (README: within 1 cm for 2 s)")
+elif check == "unknown-plant":
+    p = run("openloop", "--config", config, "--plant", "gazebo", expect_rc=None)
+    need(0 < p.returncode < 128, f"exit code {p.returncode}: an error, not a crash, was expected")
+    need("gazebo" in p.stderr, f"the message does not name the bad plant: {p.stderr}")
+elif check == "crosscheck":
+    j = json.loads(run("crosscheck", "--config", config, "--states", "1000", "--json").stdout)
+    fd = j["forward_dynamics"]["max_relative_error"]
+    helix = j["open_loop"]["helix_2s"]["position_m"]
+    servo = j["open_loop"]["servo_step_0p5s"]["position_m"]
+    # README: forward dynamics agree to 2.4e-11 relative, open loop to 9e-14 m along the
+    # helix and 3.6e-7 m for a servo-torque step (two independent engines: near, not equal).
+    need(fd < 5e-11, f"forward dynamics differ by {fd} (README: 2.4e-11)")
+    need(helix < 2e-13, f"helix open loop differs by {helix} m (README: 9e-14 m)")
+    need(1e-7 < servo < 7e-7, f"servo step differs by {servo} m (README: 3.6e-7 m)")
+    need(j["hover_max_abs_acceleration"] < 1e-12, f"hover acceleration {j['hover_max_abs_acceleration']}")
+elif check == "devices":
+    out = run("devices").stdout
+    need(re.search(r"built without CUDA|built with CUDA runtime \d+", out) is not None, f"no build line: {out}")
+    if "built with CUDA runtime" in out:
+        need(re.search(r"no usable CUDA device: .+|no CUDA device found|device 0: .+, sm_\d+", out) is not None,
+             f"neither a device nor the reason for none: {out}")
+elif check == "batch":
+    # A quick design, then five states solved one by one (--json) and all at once
+    # (--batch): the batch rows are the single solves.
+    text = open(config).read().replace("compare_gains: true", "compare_gains: false")
+    text = text.replace("verify_directions: 2000", "verify_directions: 100")
+    quick = os.path.join(scratch, "quick.yaml")
+    open(quick, "w").write(text)
+    art = os.path.join(scratch, "c.tmpc")
+    run("design", "--config", quick, "--out", art, "--report", os.path.join(scratch, "r.json"))
+    states = [[0.002 * (k + 1) * (1 if i % 2 else -1) for i in range(24)] for k in range(5)]
+    batch = os.path.join(scratch, "states.txt")
+    with open(batch, "w") as f:
+        f.write("# five states\n")
+        for s in states:
+            f.write(" ".join(f"{v:.17g}" for v in s) + "\n")
+    csv = os.path.join(scratch, "batch.csv")
+    p = run("solve", "--controller", art, "--batch", batch, "--out", csv)
+    out = p.stdout + p.stderr
+    need("5 QPs" in out and "5 converged" in out, f"batch summary: {out}")
+    rows = [line.split(",") for line in open(csv).read().strip().splitlines()]
+    header, rows = rows[0], rows[1:]
+    need(len(rows) == 5, f"{len(rows)} rows for 5 states")
+    for k, s in enumerate(states):
+        single = json.loads(run("solve", "--controller", art, "--x0", ",".join(f"{v:.17g}" for v in s), "--json").stdout)
+        row = dict(zip(header, rows[k]))
+        need(row["status"] == single["status"] == "converged", f"state {k}: {row['status']} / {single['status']}")
+        for i in range(4):
+            d = abs(float(row[f"u{i}"]) - single["u_bar0"][i])
+            need(d < 1e-8, f"state {k}: u{i} differs by {d} between batch and single solve")
+    bad = os.path.join(scratch, "bad.txt")
+    open(bad, "w").write("1 2 3\n")
+    p = run("solve", "--controller", art, "--batch", bad, expect_rc=None)
+    need(p.returncode != 0 and "bad.txt" in p.stderr, f"a short batch line was accepted: {p.returncode} {p.stderr}")
+else:
+    sys.exit(f"unknown check {check}")
+
+if failures:
+    print("\n".join(failures))
+    sys.exit(1)
+print(f"{check}: ok")
