@@ -54,8 +54,7 @@ DenseAdmm::DenseAdmm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, const E
   rho_vec_.resize(m);
   rho_inv_.resize(m);
   K_.resize(n, n);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
-  factor();
+  factor();  // LLT::compute sizes llt_ (a copy-assigned LLT(n) would copy its unset info)
   for (Eigen::VectorXd* v : {&x_, &xt_, &rhs_, &tmp_n_, &Hx_, &Aty_, &fs_, &xp_}) v->setZero(n);
   yp_.setZero(m);
   polish_ = ActiveSetPolish(static_cast<int>(n), static_cast<int>(m));

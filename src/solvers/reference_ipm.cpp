@@ -21,7 +21,9 @@ ReferenceQp::ReferenceQp(const ParametricQp& qp, const SolverOptions& opt)
   for (Eigen::VectorXd* v : {&lam_, &s_, &dlam_, &ds_, &rp_, &rc_, &w_, &Gz_, &h_}) v->setZero(2 * nc_);
   Mred_.resize(nz_, nz_);
   AtW_.resize(nz_, nc_);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(nz_);
+  // Sized by a first factorization: an LLT(n) leaves its info unset, which copying
+  // it reads (UBSan: an invalid enum value).
+  llt_.compute(Eigen::MatrixXd::Identity(nz_, nz_));
   active_row_.assign(static_cast<std::size_t>(2 * nc_), 0);
   res_.z.resize(nz_);
   res_.y.resize(nc_);
