@@ -10,6 +10,7 @@
 #include "case_study.hpp"
 #include "tmpc/io/protocol.hpp"
 #include "tmpc/model/reference.hpp"
+#include "tmpc/runtime/reference_source.hpp"
 #include "tmpc/runtime/state_gate.hpp"
 #include "tmpc/runtime/tracking_error.hpp"
 
@@ -22,8 +23,15 @@ const tmpc::Config& config() {
   return c;
 }
 
+/// The thesis' helix (config/scenarios/thesis_helix.yaml).
+std::shared_ptr<const tmpc::Trajectory> helix() {
+  static const std::shared_ptr<const tmpc::Trajectory> h =
+      tmpc::make_helix({Eigen::Vector3d(0, 0, 4), 5.0, 3.0, M_PI / 40.0, 0.0});
+  return h;
+}
+
 /// Frames of the plant on the helix, one a period.
-std::vector<std::vector<std::uint8_t>> frames(const tmpc::HelixTrajectory& traj, int count) {
+std::vector<std::vector<std::uint8_t>> frames(tmpc::ReferenceGenerator& traj, int count) {
   std::vector<std::vector<std::uint8_t>> out;
   for (int k = 0; k < count; ++k) {
     const double t = config().sample_time * k;
@@ -54,7 +62,7 @@ tmpc::StateGate make_gate() {
 
 void BM_DecodeStateFrame(benchmark::State& st) {
   const tmpc::TiltrotorModel model(config().vehicle);
-  const tmpc::HelixTrajectory traj(config().reference, model);
+  tmpc::ReferenceGenerator traj(model, helix());
   const auto fs = frames(traj, 1000);
   const std::vector<tmpc::StateKind> all = tmpc::tiltrotor_state_kinds();
   tmpc::io::Decoder d(tmpc::state_decoder_settings(config().link, std::vector<tmpc::StateKind>(all.begin(), all.begin() + 20)));
@@ -73,8 +81,6 @@ void BM_DecodeStateFrame(benchmark::State& st) {
 BENCHMARK(BM_DecodeStateFrame)->Unit(benchmark::kMicrosecond);
 
 void BM_StateGateCheck(benchmark::State& st) {
-  const tmpc::TiltrotorModel model(config().vehicle);
-  const tmpc::HelixTrajectory traj(config().reference, model);
   tmpc::StateGate g = make_gate();
   // Measured errors of a flight near the reference (precomputed: the gate alone).
   std::vector<Eigen::VectorXd> errors;
@@ -90,15 +96,17 @@ void BM_StateGateCheck(benchmark::State& st) {
 }
 BENCHMARK(BM_StateGateCheck)->Unit(benchmark::kMicrosecond);
 
+// One period's reference as the loop computes it: x_r and u_r from the artifact's
+// records (the trim warm-started from the previous period's) and the measured error.
 void BM_ReferencePointAndError(benchmark::State& st) {
-  const tmpc::TiltrotorModel model(config().vehicle);
-  const tmpc::HelixTrajectory traj(config().reference, model);
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(20);
-  tmpc::State20 x = tmpc::State20::Zero();
+  const tmpc::ControllerArtifact& a = artifact();
+  auto ref = tmpc::make_reference_source(a, helix());
+  const tmpc::TrackingError te(a.measured_kinds(), a.integrated);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(a.measured), x_r = e, x = e, u_r = Eigen::VectorXd::Zero(a.m);
   long k = 0;
   for (auto _ : st) {
-    const tmpc::ReferencePoint r = traj.at(config().sample_time * static_cast<double>(k++));
-    tmpc::TrackingError::measured(x, r, e);
+    benchmark::DoNotOptimize(ref->at(config().sample_time * static_cast<double>(k++), x_r, u_r));
+    te.measured(x, x_r, e);
     benchmark::DoNotOptimize(e.data());
   }
 }

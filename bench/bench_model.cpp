@@ -39,7 +39,7 @@ void BM_Linearize(benchmark::State& st) {
 BENCHMARK(BM_Linearize)->Unit(benchmark::kMicrosecond);
 
 void BM_PlantPeriod(benchmark::State& st) {
-  tmpc::ElPlant plant(config().vehicle, tmpc::DisturbanceSchedule{}, config().simulation.substep);
+  tmpc::ElPlant plant(config().vehicle, tmpc::DisturbanceProfile{}, config().simulation.substep);
   Eigen::Vector4d u;
   const tmpc::State20 x = hover_state(plant.model(), u);
   plant.reset(x, 0.0);
@@ -48,8 +48,7 @@ void BM_PlantPeriod(benchmark::State& st) {
 BENCHMARK(BM_PlantPeriod)->Unit(benchmark::kMicrosecond);
 
 void BM_BuildErrorModel(benchmark::State& st) {
-  const tmpc::TiltrotorModel m(config().vehicle);
-  for (auto _ : st) benchmark::DoNotOptimize(tmpc::build_error_model(config(), m));
+  for (auto _ : st) benchmark::DoNotOptimize(tmpc::build_error_model(config()));
 }
 BENCHMARK(BM_BuildErrorModel)->Unit(benchmark::kMillisecond)->Iterations(3);
 

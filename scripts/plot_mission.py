@@ -3,11 +3,15 @@
 
 Usage: scripts/plot_mission.py DIR [DIR ...]
 DIR holds telemetry.csv (tmpc simulate --out DIR); a Monte Carlo campaign directory
-(with run_K/ folders) is plotted run by run. PNGs go to DIR/plots/: the 3-D path with
-the reference, position errors, attitude, swing and tilt angles, thrusts and torques,
-and a violin plot of the solve times of every DIR given (one violin each).
+(with run_K/ folders) is plotted run by run. PNGs go to DIR/plots/: for the tiltrotor
+the 3-D path with the reference, position errors, attitude, swing and tilt angles,
+thrusts and torques; for another model (config `model: linear`) the errors of its
+measured states and its inputs; and a violin plot of the solve times of every DIR
+given (one violin each). The dashed lines are the scenario's disturbance events
+(metrics.json's window starts).
 """
 import csv
+import json
 import os
 import sys
 
@@ -16,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-DISTURBANCE_TIMES = (20.0, 40.0, 60.0)
+DISTURBANCE_TIMES = []
 
 
 def read(path):
@@ -31,10 +35,19 @@ def read(path):
                 cols[k].append(float(v))
             except ValueError:
                 cols[k].append(v)
-    for k in ("t", "e_x", "r_x", "u_f_r", "solve_us"):
+    for k in ("t", "solve_us"):
         if k not in cols:
             raise SystemExit(f"{path}: column '{k}' missing (not a tmpc telemetry.csv)")
     return cols
+
+
+def event_times(d):
+    """The scenario's disturbance events: the metrics' window starts after 0."""
+    try:
+        with open(os.path.join(d, "metrics.json")) as f:
+            return [t for t in json.load(f)["tube_exits"]["window_starts"] if t > 0.0]
+    except (OSError, KeyError, ValueError):
+        return []
 
 
 def absolute(c, name):
@@ -63,10 +76,24 @@ def series(c, names, ylabel, title, out, absolute_values=False):
     plt.close(fig)
 
 
+def plot_generic(c, out):
+    """Any model: the errors of the measured states and the inputs, by column name."""
+    errors = [(k, k[2:]) for k in c if k.startswith("e_")]
+    inputs = [(k, k[2:]) for k in c if k.startswith("u_")]
+    if errors:
+        series(c, errors, "", "tracking errors", os.path.join(out, "errors.png"))
+    if inputs:
+        series(c, inputs, "", "inputs", os.path.join(out, "inputs.png"))
+
+
 def plot_run(d):
     c = read(os.path.join(d, "telemetry.csv"))
+    DISTURBANCE_TIMES[:] = event_times(d) or event_times(os.path.dirname(os.path.normpath(d)))
     out = os.path.join(d, "plots")
     os.makedirs(out, exist_ok=True)
+    if not all(k in c for k in ("e_x", "r_x", "e_gamma_1", "u_f_r")):
+        plot_generic(c, out)
+        return c
     fig = plt.figure(figsize=(7, 6))
     ax = fig.add_subplot(projection="3d")
     ax.plot(c["r_x"], c["r_y"], c["r_z"], "k--", lw=0.8, label="reference")

@@ -2,6 +2,7 @@
 //   tmpc design --config FILE --out FILE.tmpc [--report FILE.json]
 //   tmpc inspect FILE.tmpc [--json]
 //   tmpc export-qp --controller FILE.tmpc --x0 "v1,...,v24" --out qp.json
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include "commands.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
+#include "tmpc/solvers/soft_penalty.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/design.hpp"
 
@@ -19,13 +21,6 @@ namespace tmpc::cli {
 
 namespace {
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 struct DesignOptions {
   std::string config = "config/tiltrotor.yaml";
@@ -35,12 +30,13 @@ struct DesignOptions {
 };
 
 void run_design(const DesignOptions& o) {
-  const std::string text = read_file(o.config);
+  const std::string text = read_config_text(o.config);
   const Config cfg = load_config_from_string(text, o.config);
   const ControllerDesign d = design_controller(cfg, text, [](const std::string& m) {
     std::fprintf(stderr, "tmpc design: %s ...\n", m.c_str());
   });
-  const ControllerArtifact a = make_artifact(d);
+  ControllerArtifact a = make_artifact(d);
+  const SoftPenaltyCalibration soft = apply_soft_penalty(a, cfg.soft_constraints.safety_factor);
   // The offset-free law needs the steady state of every force on the load: checked
   // here (a clear error), not first on the vehicle.
   DisturbanceTarget target;
@@ -54,7 +50,13 @@ void run_design(const DesignOptions& o) {
   if (!o.report.empty()) {
     std::ofstream r(o.report);
     if (!r) throw std::runtime_error(o.report + ": cannot write");
-    r << design_report_json(d) << "\n";
+    nlohmann::json j = nlohmann::json::parse(design_report_json(d));
+    j["soft_constraints"] = {{"enabled", a.soft_constraints},
+                             {"penalty", a.soft_penalty},
+                             {"calibrated", soft.samples > 0},
+                             {"largest_multiplier_sum", soft.largest_multiplier_sum},
+                             {"samples", soft.samples}};
+    r << j.dump(2) << "\n";
   }
   const GainDesign& g = d.gains[static_cast<std::size_t>(d.selected)];
   std::printf("design of %s in %.1f s (error model %.1f, W %.1f, gains %.1f, tubes and margins %.1f, checks %.1f)\n",
@@ -90,17 +92,47 @@ void run_design(const DesignOptions& o) {
   }
   std::printf("QP: N = %d, M = %d, %d variables, %d constraints\n", d.qp.N, d.qp.M, d.qp.variables(),
               d.qp.variables() + d.qp.state_constraints());
-  if (cfg.tube_law.offset_free) {
+  if (cfg.model == ModelKind::Tiltrotor) {
+    const EnvelopeSettings& e = d.envelope;
+    std::printf("envelope: acceleration [%.3g, %.3g] x [%.3g, %.3g] x [%.3g, %.3g] m/s^2, speed <= %.3g m/s, yaw %.3g "
+                "+- %.3g rad; feedforward f_r in [%.3f, %.3f] N\n",
+                e.acceleration_min(0), e.acceleration_max(0), e.acceleration_min(1), e.acceleration_max(1),
+                e.acceleration_min(2), e.acceleration_max(2), e.speed_max, e.yaw, e.yaw_tolerance, a.feedforward_min(0),
+                a.feedforward_max(0));
+  }
+  if (cfg.tube_law.offset_free && cfg.model == ModelKind::Tiltrotor) {
     std::printf("tube law: offset-free (observer gain %.3g); the steady state of 1 N on the load takes, per axis,\n",
                 cfg.tube_law.observer_gain);
     for (int j = 0; j < 3; ++j) {
-      const Eigen::Vector4d us = target.Tu.col(j).cwiseQuotient(a.N_u);
+      const Eigen::VectorXd us = target.Tu.col(j).cwiseQuotient(a.N_u);
       const Eigen::VectorXd xs = target.Tx.col(j).cwiseQuotient(a.N_x);
       std::printf("  %c: u_s = (%.3f, %.3f) N, (%.4f, %.4f) N m; load phi %.3f, theta %.3f, gamma (%.3f, %.3f) rad\n",
                   "xyz"[j], us(0), us(1), us(2), us(3), xs(3), xs(4), xs(6), xs(7));
     }
+  } else if (cfg.tube_law.offset_free) {
+    std::printf("tube law: offset-free (observer gain %.3g)\n", cfg.tube_law.observer_gain);
   } else {
     std::printf("tube law: Mayne's (the thesis')\n");
+  }
+  if (d.kalman) {
+    std::printf("estimation: Kalman filter on %zu measured rows, %ld residual channels, error spectral radius %.6f\n",
+                d.kf.measured_rows.size(), static_cast<long>(d.kf.E_c.cols()), d.kf.spectral_radius);
+    std::printf("  noise through the tube gain (input std from the estimation error; input weights x scale):\n");
+    for (const auto& t : d.noise_tradeoff) {
+      std::printf("    x %-6g", t.scale);
+      for (int i = 0; i < a.m; ++i) std::printf(" %s %.3g", a.input_names[static_cast<std::size_t>(i)].c_str(), t.input_noise_std(i));
+      std::printf("; spectral radius %.6f, robustness margin %.3f\n", t.spectral_radius, t.margin);
+    }
+  }
+  if (d.of_computed) {
+    std::printf("output-feedback tube (Mayne et al. 2006): the sets hold up to %.4g times the configured noise (%s)\n",
+                d.of.noise_margin, d.output_feedback ? "applied" : "not applied: estimation.output_feedback_tube is false");
+  }
+  if (a.soft_constraints) {
+    std::printf("soft state constraints: penalty %.4g%s\n", a.soft_penalty,
+                soft.samples > 0 ? (" (" + std::to_string(soft.samples) + " sampled QPs, largest multiplier sum " +
+                                    std::to_string(soft.largest_multiplier_sum) + ")").c_str()
+                                 : " (configured)");
   }
   std::printf("artifact: %s\n", o.out.c_str());
   if (!o.report.empty()) std::printf("report: %s\n", o.report.c_str());
@@ -109,7 +141,9 @@ void run_design(const DesignOptions& o) {
 void run_inspect(const std::string& file, bool json) {
   const ControllerArtifact a = load_artifact(file);
   if (json) {
-    nlohmann::json j = {{"format_version", kArtifactVersion}, {"n", a.n}, {"m", a.m}, {"N", a.N}, {"M", a.M},
+    nlohmann::json j = {{"format_version", kArtifactVersion}, {"model", a.model == ModelKind::Tiltrotor ? "tiltrotor" : "linear"},
+                        {"n", a.n}, {"m", a.m}, {"N", a.N}, {"M", a.M}, {"measured", a.measured},
+                        {"state_names", a.state_names}, {"input_names", a.input_names},
                         {"sample_time", a.sample_time}, {"tube_gain", a.tube_gain}, {"rpi_variant", a.rpi_variant},
                         {"terminal_cost", a.terminal_cost}, {"vertices", a.A_vertices.size()},
                         {"z_generators", a.Z.order()}, {"robustness_margin", a.margin}};
@@ -117,18 +151,26 @@ void run_inspect(const std::string& file, bool json) {
     return;
   }
   std::printf("%s: tmpc controller artifact, format version %u\n", file.c_str(), kArtifactVersion);
-  std::printf("  %d states, %d inputs, T = %.4g s, horizons N = %d, M = %d\n", a.n, a.m, a.sample_time, a.N, a.M);
+  std::printf("  model %s: %d states (%d measured), %d inputs, T = %.4g s, horizons N = %d, M = %d\n",
+              a.model == ModelKind::Tiltrotor ? "tiltrotor" : "linear", a.n, a.measured, a.m, a.sample_time, a.N, a.M);
+  if (a.model == ModelKind::Tiltrotor) {
+    const EnvelopeSettings& e = a.envelope;
+    std::printf("  envelope: acceleration [%.3g, %.3g] x [%.3g, %.3g] x [%.3g, %.3g] m/s^2, speed <= %.3g m/s, yaw %.3g "
+                "+- %.3g rad\n",
+                e.acceleration_min(0), e.acceleration_max(0), e.acceleration_min(1), e.acceleration_max(1),
+                e.acceleration_min(2), e.acceleration_max(2), e.speed_max, e.yaw, e.yaw_tolerance);
+  }
   std::printf("  tube gain %s, RPI %s (%d generators), terminal cost %s, %zu LPV vertices\n", a.tube_gain.c_str(),
               a.rpi_variant.c_str(), a.Z.order(), a.terminal_cost.c_str(), a.A_vertices.size());
   std::printf("  robustness margin %.3f\n", a.margin);
   std::printf("  tightened input set (physical, error coordinates):\n");
   for (int i = 0; i < a.m; ++i) {
-    std::printf("    %-6s [%.4f, %.4f] of [%.4f, %.4f]\n", kInputNames[i], a.u_bar.lo(i) / a.N_u(i),
+    std::printf("    %-6s [%.4f, %.4f] of [%.4f, %.4f]\n", a.input_names[static_cast<std::size_t>(i)].c_str(), a.u_bar.lo(i) / a.N_u(i),
                 a.u_bar.hi(i) / a.N_u(i), a.U.lo(i) / a.N_u(i), a.U.hi(i) / a.N_u(i));
   }
   std::printf("  tightened state set: half-width kept per state (physical):\n");
   for (int i = 0; i < a.n; ++i) {
-    std::printf("    %-12s +-%.4g of +-%.4g\n", kStateNames[i], a.x_bar.hi(i) / a.N_x(i), a.X.hi(i) / a.N_x(i));
+    std::printf("    %-12s +-%.4g of +-%.4g\n", a.state_names[static_cast<std::size_t>(i)].c_str(), a.x_bar.hi(i) / a.N_x(i), a.X.hi(i) / a.N_x(i));
   }
 }
 
@@ -183,7 +225,7 @@ void run_export(const ExportOptions& o) {
   auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
   std::vector<std::string> vars;
   for (int k = 0; k < a.M; ++k) {
-    for (int i = 0; i < a.m; ++i) vars.push_back(std::string("u_bar[") + std::to_string(k) + "]." + kInputNames[i]);
+    for (int i = 0; i < a.m; ++i) vars.push_back(std::string("u_bar[") + std::to_string(k) + "]." + a.input_names[static_cast<std::size_t>(i)]);
   }
   nlohmann::json j = {
       {"form", "minimize 1/2 z'Hz + f'z subject to lo <= A z <= hi (normalized coordinates)"},
@@ -226,7 +268,7 @@ void register_design(CLI::App& app) {
   auto e = std::make_shared<ExportOptions>();
   CLI::App* ex = app.add_subcommand("export-qp", "Write the nominal QP for one state as solver-neutral JSON");
   ex->add_option("--controller", e->controller, "controller artifact")->required();
-  ex->add_option("--x0", e->x0, "normalized nominal state, 24 comma-separated values")->required();
+  ex->add_option("--x0", e->x0, "normalized nominal state, n comma-separated values")->required();
   ex->add_option("--out", e->out, "JSON file to write")->required();
   ex->callback([e]() { run_export(*e); });
 }

@@ -8,16 +8,18 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "data_files.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/error_model.hpp"
 #include "tmpc/model/reference.hpp"
+#include "tmpc/sim/scenario.hpp"
 
 namespace tmpc::cli {
 
 namespace {
 
 struct ModelOptions {
-  std::string config = "config/tiltrotor.yaml";
+  std::string config = "config/tiltrotor.yaml", scenario;
   bool json = false;
 };
 
@@ -33,14 +35,18 @@ std::vector<double> to_vec(const V& v) {
 }
 
 void run_model(const ModelOptions& opt) {
-  const Config cfg = load_config(opt.config);
+  const Config cfg = load_config(data_file(opt.config));
+  if (cfg.model != ModelKind::Tiltrotor) throw std::runtime_error(opt.config + ": `tmpc model` reports the tiltrotor's model");
   const TiltrotorModel model(cfg.vehicle);
-  const ErrorModel em = build_error_model(cfg, model);
-  const HelixTrajectory traj(cfg.reference, model);
-  const Eigen::Vector4d ur0 = feedforward(model, traj.at(0.0));
+  const ErrorModel em = build_error_model(cfg);
+  // The feedforward at the start of a scenario's trajectory (default: hover).
+  std::shared_ptr<const Trajectory> traj = make_hover(HoverShape{Eigen::Vector3d::Zero(), cfg.envelope.yaw});
+  if (!opt.scenario.empty()) traj = load_scenario(data_file(opt.scenario)).trajectory;
+  ReferenceGenerator gen(model, traj, cfg.attitude);
+  const Eigen::Vector4d ur0 = feedforward(model, gen.at(0.0));
 
-  Eigen::EigenSolver<Mat24> ec(em.A_c, false);
-  Eigen::EigenSolver<Mat24> ed(em.A, false);
+  Eigen::EigenSolver<Eigen::MatrixXd> ec(em.A_c, false);
+  Eigen::EigenSolver<Eigen::MatrixXd> ed(em.A, false);
   const Eigen::VectorXcd evc = ec.eigenvalues();
   const Eigen::VectorXcd evd = ed.eigenvalues();
   const double rho = evd.cwiseAbs().maxCoeff();
@@ -68,7 +74,8 @@ void run_model(const ModelOptions& opt) {
                 {"affinity_residual", em.lpv.affinity_residual},
                 {"affinity_residual_relative", em.lpv.affinity_residual_relative},
                 {"b_variation", em.lpv.b_variation}};
-    j["reference"] = {{"attitude", cfg.reference.attitude == ReferenceAttitude::Trim ? "trim" : "equilibrium"}};
+    j["reference"] = {{"attitude", cfg.attitude == ReferenceAttitude::Trim ? "trim" : "equilibrium"},
+                      {"feedforward_at", traj->description()}};
     j["inputs"] = {{"u_r_min", to_vec(em.u_r_min)},
                    {"u_r_max", to_vec(em.u_r_max)},
                    {"error_min", to_vec(em.input_error_min)},
@@ -78,7 +85,7 @@ void run_model(const ModelOptions& opt) {
   }
 
   std::printf("config: %s\n\n", opt.config.c_str());
-  std::printf("hover equilibrium (psi = %.4g rad), residual %.2e after %d Gauss-Newton steps\n", cfg.reference.yaw,
+  std::printf("hover equilibrium (psi = %.4g rad), residual %.2e after %d Gauss-Newton steps\n", cfg.envelope.yaw,
               eq.residual, eq.iterations);
   std::printf("  gamma_1 = %.6e rad   (thesis 1.3170e-4)\n", eq.angles(0));
   std::printf("  gamma_2 = %.6f rad   (thesis 0.01396)\n", eq.angles(1));
@@ -86,8 +93,8 @@ void run_model(const ModelOptions& opt) {
   std::printf("  alpha_l = %.6f rad   (thesis 0.0138)\n", eq.angles(3));
   std::printf("  f_r = %.6f N, f_l = %.6f N, tau_r = %.3e N m, tau_l = %.3e N m\n\n", eq.u(0), eq.u(1), eq.u(2),
               eq.u(3));
-  std::printf("feedforward u_r(0): f_r = %.6f N, f_l = %.6f N, tau_r = %.3e N m, tau_l = %.3e N m\n\n", ur0(0),
-              ur0(1), ur0(2), ur0(3));
+  std::printf("feedforward u_r(0) of %s: f_r = %.6f N, f_l = %.6f N, tau_r = %.3e N m, tau_l = %.3e N m\n\n",
+              traj->description().c_str(), ur0(0), ur0(1), ur0(2), ur0(3));
   std::printf("continuous nominal A_a (24 states), eigenvalues (max real part %.3e):\n", max_re);
   for (Eigen::Index i = 0; i < evc.size(); ++i) {
     std::printf("  %+.6f %+.6fj\n", evc(i).real(), evc(i).imag());
@@ -101,11 +108,11 @@ void run_model(const ModelOptions& opt) {
               em.lpv.sigma_max(0), em.lpv.sigma_min(1), em.lpv.sigma_max(1), em.lpv.sigma_min(2),
               em.lpv.sigma_max(2));
   std::printf("  max ||A_lpv(sigma) - A0|| / ||A0||          = %.3e\n", em.lpv.sigma_part);
-  std::printf("  affinity residual max ||A(t) - A_lpv|| / ||A0|| = %.3e (%.1f%% of the variation of A)\n",
+  std::printf("  affinity residual max ||A(sigma) - A_lpv|| / ||A0|| = %.3e (%.1f%% of the variation of A)\n",
               em.lpv.affinity_residual, 100.0 * em.lpv.affinity_residual_relative);
-  std::printf("  B along the helix: max ||B(t) - B(0)|| / ||B(0)|| = %.3e (reference attitude: %s)\n",
-              em.lpv.b_variation, cfg.reference.attitude == ReferenceAttitude::Trim ? "trim" : "equilibrium");
-  std::printf("\ninput box in error coordinates (holds along the whole mission):\n");
+  std::printf("  B over the envelope: max ||B(sigma) - B(0)|| / ||B(0)|| = %.3e (reference attitude: %s)\n",
+              em.lpv.b_variation, cfg.attitude == ReferenceAttitude::Trim ? "trim" : "equilibrium");
+  std::printf("\ninput box in error coordinates (holds over the whole envelope):\n");
   for (int i = 0; i < 4; ++i) {
     std::printf("  u_tilde[%d] in [%.4f, %.4f]\n", i, em.input_error_min(i), em.input_error_max(i));
   }
@@ -117,6 +124,8 @@ void register_model(CLI::App& app) {
   auto opt = std::make_shared<ModelOptions>();
   CLI::App* sub = app.add_subcommand("model", "Equilibrium, feedforward and the linear error model of a config");
   sub->add_option("--config", opt->config, "design configuration (YAML)")->check(CLI::ExistingFile);
+  sub->add_option("--scenario", opt->scenario, "the feedforward at this scenario's start (default: hover)")
+      ->check(CLI::ExistingFile);
   sub->add_flag("--json", opt->json, "print JSON with stable keys");
   sub->callback([opt]() { run_model(*opt); });
 }

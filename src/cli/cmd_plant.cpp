@@ -12,17 +12,20 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "data_files.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/sim/el_plant.hpp"
 #include "tmpc/sim/mujoco_plant.hpp"
+#include "tmpc/sim/plant_model.hpp"
+#include "tmpc/sim/scenario.hpp"
 
 namespace tmpc::cli {
 
 namespace {
 
 struct OpenLoopOptions {
-  std::string config = "config/tiltrotor.yaml";
+  std::string config = "config/tiltrotor.yaml", scenario = kDefaultScenario;
   std::string plant;
   double duration = 2.0;
   bool disturbance = false;
@@ -31,15 +34,16 @@ struct OpenLoopOptions {
 };
 
 void run_openloop(const OpenLoopOptions& o) {
-  const Config cfg = load_config(o.config);
-  const std::string kind = o.plant.empty() ? cfg.simulation.plant : o.plant;
-  auto plant = make_plant(kind, cfg, o.disturbance, o.run);
+  const Config cfg = load_config(data_file(o.config));
+  if (cfg.model != ModelKind::Tiltrotor) throw std::runtime_error(o.config + ": openloop flies the tiltrotor");
+  Scenario sc = load_scenario(data_file(o.scenario));
+  if (!o.disturbance) sc.disturbances = DisturbanceProfile{};
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
+  ReferenceGenerator traj(model, sc.trajectory, cfg.attitude);
   const ReferencePoint r0 = traj.at(0.0);
-  State20 x0;
+  Eigen::VectorXd x0(kNx);
   x0 << r0.q, r0.qd;
-  plant->reset(x0, 0.0);
+  auto plant = make_scenario_plant(PlantModel::from_config(cfg), sc, x0, o.run, -1, o.plant);
   std::ofstream csv;
   if (!o.out.empty()) {
     csv.open(o.out);
@@ -63,8 +67,9 @@ void run_openloop(const OpenLoopOptions& o) {
       csv << "\n";
     }
   }
-  std::printf("plant %s, %.3g s of feedforward along the helix%s%s: load within %.3e m of the reference\n",
-              plant->name().c_str(), o.duration, o.disturbance ? ", with the disturbance schedule" : "",
+  std::printf("plant %s, %.3g s of feedforward along %s%s%s: load within %.3e m of the reference\n",
+              plant->name().c_str(), o.duration, sc.trajectory->description().c_str(),
+              o.disturbance ? ", with the scenario's disturbances" : "",
               o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "", worst);
   if (!o.out.empty()) std::printf("trajectory: %s\n", o.out.c_str());
 }
@@ -82,10 +87,10 @@ void run_crosscheck(const CrossCheckOptions&) {
 }
 #else
 void run_crosscheck(const CrossCheckOptions& o) {
-  const Config cfg = load_config(o.config);
+  const Config cfg = load_config(data_file(o.config));
   const TiltrotorModel model(cfg.vehicle);
-  MujocoPlant mj(cfg.vehicle, DisturbanceSchedule{}, cfg.simulation.substep);
-  ElPlant el(cfg.vehicle, DisturbanceSchedule{}, cfg.simulation.substep);
+  MujocoPlant mj(cfg.vehicle, DisturbanceProfile{}, cfg.simulation.substep);
+  ElPlant el(cfg.vehicle, DisturbanceProfile{}, cfg.simulation.substep);
   // Forward dynamics at random admissible states and inputs.
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> pos(-5, 5), ang(-0.5, 0.5), uni(-1, 1), thrust(0, 30), torque(-2, 2);
@@ -104,19 +109,19 @@ void run_crosscheck(const CrossCheckOptions& o) {
     sum += e;
   }
   // Hover at the solved equilibrium.
-  const HelixTrajectory traj(cfg.reference, model);
-  const Equilibrium& eq = traj.equilibrium();
+  ReferenceGenerator traj(model, load_scenario(data_file(kDefaultScenario)).trajectory, cfg.attitude);
+  const Equilibrium eq = solve_hover_equilibrium(model, cfg.envelope.yaw);
   State20 xh;
   xh << eq.q(), Vec10::Zero();
   const double hover = mj.acceleration(xh, eq.u, Eigen::Vector3d::Zero()).cwiseAbs().maxCoeff();
   // Open loop: 2 s of feedforward along the helix, 0.5 s of a servo torque step.
-  auto compare = [&](const State20& x0, double duration, const std::function<Eigen::Vector4d(double)>& input) {
+  auto compare = [&](const Eigen::VectorXd& x0, double duration, const std::function<Eigen::Vector4d(double)>& input) {
     el.reset(x0, 0.0);
     mj.reset(x0, 0.0);
     double dp = 0.0, da = 0.0;
     const double dt = cfg.simulation.substep;
     for (long k = 0; k < std::lround(duration / dt); ++k) {
-      const Eigen::Vector4d u = input(el.time());
+      const Eigen::VectorXd u = input(el.time());
       el.advance(u, dt);
       mj.advance(u, dt);
       dp = std::max(dp, (el.state().head<3>() - mj.state().head<3>()).norm());
@@ -125,11 +130,11 @@ void run_crosscheck(const CrossCheckOptions& o) {
     return std::make_pair(dp, da);
   };
   const ReferencePoint r0 = traj.at(0.0);
-  State20 x0;
+  Eigen::VectorXd x0(kNx);
   x0 << r0.q, r0.qd;
   const auto helix = compare(x0, 2.0, [&](double t) { return feedforward(model, traj.at(t)); });
   const Eigen::Vector4d step = eq.u + Eigen::Vector4d(0, 0, 0.05, 0);
-  const auto servo = compare(xh, 0.5, [&](double) { return step; });
+  const auto servo = compare(Eigen::VectorXd(xh), 0.5, [&](double) { return step; });
 
   if (o.json) {
     nlohmann::json j;
@@ -154,12 +159,13 @@ void run_crosscheck(const CrossCheckOptions& o) {
 
 void register_plant(CLI::App& app) {
   auto ol = std::make_shared<OpenLoopOptions>();
-  CLI::App* sub = app.add_subcommand("openloop", "Feedforward along the helix on a plant, open loop");
+  CLI::App* sub = app.add_subcommand("openloop", "Feedforward along a scenario's trajectory on a plant, open loop");
   sub->add_option("--config", ol->config, "design configuration (YAML)")->check(CLI::ExistingFile);
-  sub->add_option("--plant", ol->plant, "plant: el | mujoco (default: simulation.plant of the config)")
+  sub->add_option("--scenario", ol->scenario, "the scenario whose trajectory (and plant) to fly")->check(CLI::ExistingFile);
+  sub->add_option("--plant", ol->plant, "plant: el | mujoco (default: the scenario's)")
       ->check(CLI::IsMember({"el", "mujoco"}));
   sub->add_option("--duration", ol->duration, "seconds")->check(CLI::PositiveNumber);
-  sub->add_flag("--disturbance", ol->disturbance, "apply the config's disturbance schedule");
+  sub->add_flag("--disturbance", ol->disturbance, "apply the scenario's disturbances");
   sub->add_option("--run", ol->run, "Monte Carlo run index (masses and inertias perturbed)")->check(CLI::NonNegativeNumber);
   sub->add_option("--out", ol->out, "write the trajectory as CSV");
   sub->callback([ol]() { run_openloop(*ol); });

@@ -1,9 +1,9 @@
 // The real-time processes:
-//   tmpc controller --controller FILE.tmpc --port DEV [--baud] [--solver] [--rt-priority] [--cpu]
-//                   [--duration] [--telemetry FILE]      the on-board program
-//   tmpc plant --config FILE --port DEV [--baud] [--duration] [--no-disturbance] [--run K]
-//                                                         the nonlinear plant over serial
-//   tmpc hil --config FILE --controller FILE.tmpc [--solver] [--duration] [--out DIR]
+//   tmpc controller --controller FILE.tmpc --port DEV [--scenario FILE] [--baud] [--solver] [--rt-priority]
+//                   [--cpu] [--duration] [--telemetry FILE]  the on-board program
+//   tmpc plant --config FILE --port DEV [--scenario FILE] [--baud] [--duration] [--no-disturbance] [--run K]
+//                                                         the scenario's plant over serial
+//   tmpc hil --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--duration] [--out DIR]
 //                                                         both, over a pseudo-terminal pair
 #include <atomic>
 #include <csignal>
@@ -15,11 +15,13 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "data_files.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
-#include "tmpc/model/kinematic_tree.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
 #include "tmpc/runtime/plant_loop.hpp"
+#include "tmpc/runtime/preflight.hpp"
+#include "tmpc/sim/scenario.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
 namespace tmpc::cli {
@@ -53,10 +55,11 @@ void print_controller(const ControllerLoopStats& s) {
 
 void print_plant(const PlantLoopStats& s) {
   std::printf("plant: %ld periods, %ld without a control (%ld held the last input, %ld on the safe command after %ld "
-              "link loss(es)%s); RMSE x %.4f m, y %.4f m, z %.4f m; max position error %.3f m%s\n",
+              "link loss(es)%s); RMSE of the first three states %.4f, %.4f, %.4f; max position error %.3f m%s\n",
               s.periods, s.periods_without_control, s.held_periods, s.safe_command_periods, s.link_losses,
               s.first_link_loss_s >= 0.0 ? (", first at " + std::to_string(s.first_link_loss_s) + " s").c_str() : "",
-              s.rmse[0], s.rmse[1], s.rmse[2], s.max_position_error, s.diverged ? ", DIVERGED" : "");
+              s.rmse.size() > 0 ? s.rmse[0] : 0.0, s.rmse.size() > 1 ? s.rmse[1] : 0.0, s.rmse.size() > 2 ? s.rmse[2] : 0.0,
+              s.max_position_error, s.diverged ? ", DIVERGED" : "");
   std::printf("  link (session %08x, controller %08x, %ld controller session(s)): controls %s (%ld fallback, %ld safe)\n",
               s.session, s.peer_session, s.controller_sessions, io::summary(s.link).c_str(), s.fallback_frames,
               s.safe_frames);
@@ -75,15 +78,26 @@ nlohmann::json link_json(const io::LinkCounts& c) {
 }
 
 struct RtCli {
-  std::string controller, config = "config/tiltrotor.yaml", port, solver = "admm", explicit_law, telemetry, out = "out/hil",
-              plant = "el", tube_law;
+  std::string controller, config, scenario = kDefaultScenario, port, solver = "admm", explicit_law, telemetry,
+      out = "out/hil", plant, tube_law;
   int baud = 921600, priority = 0, cpu = -1, run = -1;
+  long seed = -1;
   double duration = 0.0;
   bool no_disturbance = false;
 };
 
-ControllerLoopOptions controller_options(const RtCli& o) {
+Scenario scenario_of(const RtCli& o) {
+  Scenario sc = load_scenario(data_file(o.scenario));
+  if (o.no_disturbance) sc.disturbances = DisturbanceProfile{};
+  return sc;
+}
+
+ControllerLoopOptions controller_options(const RtCli& o, const ControllerArtifact& a, const Scenario& sc) {
   ControllerLoopOptions c;
+  // Before any flight: the trajectory inside the artifact's envelope.
+  require_flight(a, *sc.trajectory, o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration,
+                 "scenario " + sc.name);
+  c.trajectory = sc.trajectory;
   c.solver = o.solver;
   c.tube_law = o.tube_law;
   c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
@@ -96,56 +110,65 @@ ControllerLoopOptions controller_options(const RtCli& o) {
 
 void run_controller(const RtCli& o) {
   const ControllerArtifact a = load_artifact(o.controller);
+  const Scenario sc = scenario_of(o);
+  ControllerLoopOptions c = controller_options(o, a, sc);
   io::SerialOpenReport rep;
   auto port = io::open_serial(o.port, o.baud, &rep);
   if (!rep.note.empty()) std::fprintf(stderr, "tmpc controller: %s: %s\n", o.port.c_str(), rep.note.c_str());
   install_signals();
-  print_controller(run_controller_loop(a, *port, controller_options(o), g_stop));
+  print_controller(run_controller_loop(a, *port, c, g_stop));
+}
+
+PlantLoopOptions plant_options(const RtCli& o, double duration) {
+  PlantLoopOptions p;
+  p.plant = o.plant;
+  p.run = o.run;
+  p.seed = o.seed;
+  p.duration_s = duration;
+  return p;
 }
 
 void run_plant(const RtCli& o) {
-  const Config cfg = load_config(o.config);
+  if (o.config.empty()) throw std::runtime_error("tmpc plant: give the design config of the plant (--config FILE)");
+  const Config cfg = load_config(data_file(o.config));
+  const Scenario sc = scenario_of(o);
   io::SerialOpenReport rep;
   auto port = io::open_serial(o.port, o.baud, &rep);
   install_signals();
-  PlantLoopOptions p;
-  p.plant = o.plant;
-  p.disturbance = !o.no_disturbance;
-  p.run = o.run;
-  p.duration_s = o.duration > 0.0 ? o.duration : cfg.simulation.duration;
-  print_plant(run_plant_loop(cfg, *port, p, g_stop));
+  print_plant(run_plant_loop(PlantSetup::from_config(cfg), sc, *port,
+                             plant_options(o, o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration), g_stop));
 }
 
 void run_hil(const RtCli& o) {
   const ControllerArtifact a = load_artifact(o.controller);
-  const Config cfg = load_config(o.config);
+  const Scenario sc = scenario_of(o);
+  // The plant: the artifact's vehicle, or --config's (a plant other than designed for).
+  PlantSetup setup = PlantSetup::from_artifact(a);
+  if (!o.config.empty()) {
+    const Config cfg = load_config(data_file(o.config));
+    if (cfg.model != a.model) throw std::runtime_error(o.config + ": its model is not the artifact's");
+    setup.model.vehicle = cfg.vehicle;
+  }
+  const double duration = o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration;
+  RtCli co = o;
+  if (co.telemetry.empty()) co.telemetry = o.out + "/telemetry.csv";
+  co.duration = duration + 0.1;  // the controller outlives the plant by a few periods
+  ControllerLoopOptions c = controller_options(co, a, sc);
+  c.duration_s = co.duration;
   io::PtyPair pty = io::open_pty_pair();
   auto port = io::open_serial(pty.slave_path, o.baud);
   std::filesystem::create_directories(o.out);
-  RtCli co = o;
-  if (co.telemetry.empty()) co.telemetry = o.out + "/telemetry.csv";
-  const double duration = o.duration > 0.0 ? o.duration : cfg.simulation.duration;
-  co.duration = duration + 0.1;  // the controller outlives the plant by a few periods
   install_signals();
   PlantLoopStats ps;
-  std::atomic<bool> plant_done{false};
-  std::thread plant([&] {
-    PlantLoopOptions p;
-    p.plant = o.plant;
-    p.disturbance = !o.no_disturbance;
-    p.run = o.run;
-    p.duration_s = duration;
-    ps = run_plant_loop(cfg, *pty.master, p, g_stop);
-    plant_done.store(true);
-  });
-  const ControllerLoopStats cs = run_controller_loop(a, *port, controller_options(co), g_stop);
+  std::thread plant([&] { ps = run_plant_loop(setup, sc, *pty.master, plant_options(o, duration), g_stop); });
+  const ControllerLoopStats cs = run_controller_loop(a, *port, c, g_stop);
   plant.join();
-  std::printf("hil over %s, %.1f s, solver %s%s\n", pty.slave_path.c_str(), duration, o.solver.c_str(),
-              o.no_disturbance ? ", no disturbance" : ", 1 N steps at 20/40/60 s");
+  std::printf("hil over %s, scenario %s, %.1f s, solver %s%s\n", pty.slave_path.c_str(), sc.name.c_str(), duration,
+              o.solver.c_str(), sc.disturbances.empty() ? ", no disturbance" : "");
   print_plant(ps);
   print_controller(cs);
   nlohmann::json j;
-  for (int i = 0; i < 10; ++i) j["rmse"][kCoordNames[static_cast<std::size_t>(i)]] = ps.rmse[static_cast<std::size_t>(i)];
+  for (std::size_t i = 0; i < ps.rmse.size(); ++i) j["rmse"][a.state_names[i]] = ps.rmse[i];
   j["periods"] = cs.periods;
   // Every period without the optimizer's answer in time: late, still busy with an
   // abandoned solve, or slept through entirely.
@@ -170,8 +193,9 @@ void run_hil(const RtCli& o) {
 
 void common(CLI::App* s, RtCli& o) {
   s->add_option("--baud", o.baud, "serial baud rate (default 921600)");
-  s->add_option("--duration", o.duration, "seconds (default: until SIGINT; plant and hil: the mission)")
+  s->add_option("--duration", o.duration, "seconds (default: controller until SIGINT; plant and hil: the scenario's)")
       ->check(CLI::PositiveNumber);
+  s->add_option("--scenario", o.scenario, "scenario file (default: " + std::string(kDefaultScenario) + ")");
 }
 
 }  // namespace
@@ -183,7 +207,7 @@ void register_realtime(CLI::App& app) {
   sc->add_option("--port", c->port, "serial device")->required();
   sc->add_option("--solver", c->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sc->add_option("--explicit", c->explicit_law, "explicit law (default: CONTROLLER + 'x')");
-  sc->add_option("--tube-law", c->tube_law, "tube law, overriding the config's tube_law.offset_free")
+  sc->add_option("--tube-law", c->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
   sc->add_option("--rt-priority", c->priority, "SCHED_FIFO priority 1..99 (0: none)")->check(CLI::Range(0, 99));
   sc->add_option("--cpu", c->cpu, "pin the loop to this CPU");
@@ -193,25 +217,28 @@ void register_realtime(CLI::App& app) {
 
   auto p = std::make_shared<RtCli>();
   CLI::App* sp = app.add_subcommand("plant", "The nonlinear plant in real time over a serial port");
-  sp->add_option("--config", p->config, "configuration (YAML)")->check(CLI::ExistingFile);
+  sp->add_option("--config", p->config, "design configuration of the plant (YAML)")->required()->check(CLI::ExistingFile);
   sp->add_option("--port", p->port, "serial device")->required();
-  sp->add_option("--plant", p->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
-  sp->add_flag("--no-disturbance", p->no_disturbance, "without the 1 N steps");
-  sp->add_option("--run", p->run, "Monte Carlo run index (masses and inertias perturbed)");
+  sp->add_option("--plant", p->plant, "el | mujoco (default: the scenario's)")->check(CLI::IsMember({"el", "mujoco"}));
+  sp->add_flag("--no-disturbance", p->no_disturbance, "without the scenario's disturbances");
+  sp->add_option("--run", p->run, "Monte Carlo run index (masses and inertias drawn per the scenario)");
+  sp->add_option("--seed", p->seed, "Monte Carlo seed (default: the scenario's)");
   common(sp, *p);
   sp->callback([p]() { run_plant(*p); });
 
   auto h = std::make_shared<RtCli>();
   CLI::App* sh = app.add_subcommand("hil", "Plant and controller in real time over a pseudo-terminal pair");
-  sh->add_option("--config", h->config, "configuration of the plant (YAML)")->check(CLI::ExistingFile);
+  sh->add_option("--config", h->config, "a design config whose vehicle the plant flies (default: the artifact's)")
+      ->check(CLI::ExistingFile);
   sh->add_option("--controller", h->controller, "controller artifact")->required()->check(CLI::ExistingFile);
   sh->add_option("--solver", h->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sh->add_option("--explicit", h->explicit_law, "explicit law (default: CONTROLLER + 'x')");
-  sh->add_option("--tube-law", h->tube_law, "tube law, overriding the config's tube_law.offset_free")
+  sh->add_option("--tube-law", h->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
-  sh->add_option("--plant", h->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
-  sh->add_flag("--no-disturbance", h->no_disturbance, "without the 1 N steps");
+  sh->add_option("--plant", h->plant, "el | mujoco (default: the scenario's)")->check(CLI::IsMember({"el", "mujoco"}));
+  sh->add_flag("--no-disturbance", h->no_disturbance, "without the scenario's disturbances");
   sh->add_option("--run", h->run, "Monte Carlo run index");
+  sh->add_option("--seed", h->seed, "Monte Carlo seed (default: the scenario's)");
   sh->add_option("--rt-priority", h->priority, "SCHED_FIFO priority of the controller loop")->check(CLI::Range(0, 99));
   sh->add_option("--out", h->out, "output directory (metrics.json, telemetry.csv)");
   common(sh, *h);

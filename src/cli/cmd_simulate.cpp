@@ -1,16 +1,22 @@
-// tmpc simulate --config FILE --controller FILE.tmpc [--solver] [--plant el|mujoco] [--monte-carlo K --seed S]
-//   [--duration 80] [--no-disturbance] [--run K] [--reinit] [--tube-law mayne|offset-free] [--observer-gain B] --out DIR
-// The helix mission in-process on a virtual clock: telemetry.csv and metrics.json.
+// tmpc simulate --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--plant el|mujoco]
+//   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit]
+//   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman] --out DIR
+// A scenario flown in-process on a virtual clock: telemetry.csv and metrics.json. The
+// plant is the artifact's vehicle (or --config's: a plant other than the one designed
+// for), scaled as the scenario says; the trajectory is checked against the envelope
+// before take-off.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "commands.hpp"
+#include "data_files.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/metrics/campaign.hpp"
 #include "tmpc/metrics/mission.hpp"
 #include "tmpc/model/config.hpp"
+#include "tmpc/sim/scenario.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
 namespace tmpc::cli {
@@ -18,50 +24,68 @@ namespace tmpc::cli {
 namespace {
 
 struct SimOptions {
-  std::string controller, config, out = "out", solver = "admm", plant = "el", explicit_law;
-  double duration = 80.0;
+  std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "admm", plant, explicit_law;
+  double duration = 0.0;
   bool no_disturbance = false, reinit = false;
   std::string tube_law;
   double observer_gain = 0.0;
+  std::string observer;
   int run = -1, monte_carlo = 0;
   long seed = -1;
 };
 
 void print_metrics(const MissionMetrics& r) {
-  std::printf("  RMSE x %.4f m, y %.4f m, z %.4f m, psi %.5f rad; max |error| x %.3f y %.3f z %.3f m\n", r.rmse[0],
-              r.rmse[1], r.rmse[2], r.rmse[5], r.max_abs_error[0], r.max_abs_error[1], r.max_abs_error[2]);
-  std::printf("  periods %ld, fallbacks %ld, clipped %ld, state-constraint violations %ld, tube exits %ld%s\n",
+  std::printf("  RMSE");
+  for (std::size_t i = 0; i < std::min<std::size_t>(3, r.rmse.size()); ++i) {
+    std::printf(" %s %.4f", r.state_names[i].c_str(), r.rmse[i]);
+  }
+  std::printf("; max |error|");
+  for (std::size_t i = 0; i < std::min<std::size_t>(3, r.rmse.size()); ++i) {
+    std::printf(" %s %.3f", r.state_names[i].c_str(), r.max_abs_error[i]);
+  }
+  std::printf("\n  periods %ld, fallbacks %ld, clipped %ld, state-constraint violations %ld, tube exits %ld%s\n",
               r.periods, r.fallback_periods, r.clipped_periods, r.state_constraint_violations, r.tube_exits,
               r.diverged ? ", DIVERGED" : "");
   std::printf("  solve time us: min %.1f, median %.1f, p99 %.1f, max %.1f; iterations mean %.1f, max %d\n",
               r.solve_min, r.solve_p50, r.solve_p99, r.solve_max, r.iterations_mean, r.iterations_max);
+  if (r.state_constraint_violations > 0) {
+    std::printf("  worst violation: %s at %.3f of its bound\n", r.violation_worst_state.c_str(), r.violation_max_ratio);
+  }
+  if (r.softened_periods > 0) {
+    std::printf("  softened QP (hard QP infeasible) in %ld periods; largest slack %.4g in %s\n", r.softened_periods,
+                r.slack_max, r.slack_worst_state.c_str());
+  }
+  if (r.offset_free) std::printf("  observer: %s\n", r.estimator.c_str());
   if (r.tube_exits > 0) {
-    std::printf("  tube exits per disturbance window:");
+    std::printf("  tube exits per window:");
     for (std::size_t w = 0; w < r.tube_exits_per_step.size(); ++w) {
-      std::printf(" %ld (up to %.3g radii of Z, back by %.2f s)", r.tube_exits_per_step[w], r.tube_ratio_max_per_step[w],
-                  r.tube_settle_s_per_step[w]);
+      std::printf(" from %.0f s: %ld (up to %.3g radii of Z, back by %.2f s)", r.window_starts[w], r.tube_exits_per_step[w],
+                  r.tube_ratio_max_per_step[w], r.tube_settle_s_per_step[w]);
     }
     std::printf("; mostly in %s\n", r.tube_worst_state.c_str());
   }
 }
 
-// --monte-carlo K: K runs with masses and inertias perturbed (run index 0..K-1 of the
-// seeded distribution), each in OUT/run_K/, the campaign in OUT/metrics.json.
-void run_campaign(const SimOptions& o, const ControllerArtifact& a, MissionOptions m) {
+// --monte-carlo K: K runs with masses and inertias drawn per the scenario's
+// plant.random (run index 0..K-1), each in OUT/run_K/, the campaign in OUT/metrics.json.
+void run_campaign(const SimOptions& o, const ControllerArtifact& a, const Scenario& sc, MissionOptions m) {
   std::vector<MissionMetrics> runs;
-  const Config cfg = load_config_from_string(a.config_text, o.controller);
-  const unsigned seed = o.seed >= 0 ? static_cast<unsigned>(o.seed) : cfg.perturbation.seed;
+  const unsigned seed = o.seed >= 0 ? static_cast<unsigned>(o.seed) : sc.plant.random.seed;
+  if (!(sc.plant.random.fraction > 0.0)) {
+    std::fprintf(stderr, "tmpc simulate: note: scenario %s has no plant.random fraction: every run flies the same plant\n",
+                 sc.source.c_str());
+  }
   m.seed = seed;
-  std::printf("Monte Carlo: %d runs, masses and inertias +-%.0f %% (%s, seed %u), %.0f s each, solver %s\n",
-              o.monte_carlo, 100.0 * cfg.perturbation.fraction, cfg.perturbation.distribution.c_str(), seed,
-              o.duration, o.solver.c_str());
+  std::printf("Monte Carlo: %d runs of %s, masses and inertias +-%.0f %% (%s, seed %u), solver %s\n", o.monte_carlo,
+              sc.name.c_str(), 100.0 * sc.plant.random.fraction, sc.plant.random.distribution.c_str(), seed,
+              o.solver.c_str());
   for (int k = 0; k < o.monte_carlo; ++k) {
     const std::string dir = o.out + "/run_" + std::to_string(k);
     std::filesystem::create_directories(dir);
     m.run = k;
     m.telemetry_csv = dir + "/telemetry.csv";
     std::fprintf(stderr, "\r  run %d/%d ...", k + 1, o.monte_carlo);
-    runs.push_back(run_mission(a, m));
+    runs.push_back(run_mission(a, sc, m));
     std::ofstream(dir + "/metrics.json") << metrics_json(runs.back()) << "\n";
   }
   std::fprintf(stderr, "\r");
@@ -75,28 +99,40 @@ void run_campaign(const SimOptions& o, const ControllerArtifact& a, MissionOptio
 
 void run_simulate(const SimOptions& o) {
   const ControllerArtifact a = load_artifact(o.controller);
+  Scenario sc = load_scenario(data_file(o.scenario));
+  if (o.no_disturbance) sc.disturbances = DisturbanceProfile{};
   std::filesystem::create_directories(o.out);
+  VehicleParams plant_vehicle;
   MissionOptions m;
+  if (!o.config.empty()) {
+    const Config plant_cfg = load_config(data_file(o.config));
+    if (plant_cfg.model != a.model) throw std::runtime_error(o.config + ": its model is not the artifact's");
+    plant_vehicle = plant_cfg.vehicle;
+    m.plant_vehicle = &plant_vehicle;
+  }
   m.solver = o.solver;
   m.plant = o.plant;
   m.duration = o.duration;
-  m.disturbance = !o.no_disturbance;
   m.run = o.run;
   m.reinitialize_nominal = o.reinit;
   m.tube_law = o.tube_law;
   m.observer_gain = o.observer_gain;
+  m.observer = o.observer;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
   if (o.monte_carlo > 0) {
-    run_campaign(o, a, m);
+    run_campaign(o, a, sc, m);
     return;
   }
-  const MissionMetrics r = run_mission(a, m);
+  const MissionMetrics r = run_mission(a, sc, m);
   std::ofstream(o.out + "/metrics.json") << metrics_json(r) << "\n";
-  std::printf("helix mission, %.0f s, plant %s, solver %s, %s tube law%s%s\n", o.duration, o.plant.c_str(),
-              o.solver.c_str(), r.offset_free ? "offset-free" : "Mayne's", m.disturbance ? ", 1 N steps at 20/40/60 s" : ", no disturbance",
-              o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "");
+  const double duration = o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration;
+  std::printf("scenario %s (%s), %.0f s, plant %s%s, solver %s, %s tube law%s%s%s\n", sc.name.c_str(),
+              sc.trajectory->description().c_str(), duration, r.plant.c_str(), o.config.empty() ? "" : (" of " + o.config).c_str(),
+              o.solver.c_str(), r.offset_free ? "offset-free" : "Mayne's",
+              sc.disturbances.empty() ? ", no disturbance" : (", " + std::to_string(sc.disturbances.events().size()) + " disturbance events").c_str(),
+              r.noisy ? ", noisy sensors" : "", o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "");
   print_metrics(r);
   std::printf("  %s/metrics.json, %s/telemetry.csv\n", o.out.c_str(), o.out.c_str());
 }
@@ -105,23 +141,27 @@ void run_simulate(const SimOptions& o) {
 
 void register_simulate(CLI::App& app) {
   auto o = std::make_shared<SimOptions>();
-  CLI::App* sub = app.add_subcommand("simulate", "Closed-loop helix mission on a virtual clock");
+  CLI::App* sub = app.add_subcommand("simulate", "Fly a scenario in simulation on a virtual clock");
   sub->add_option("--controller", o->controller, "controller artifact")->required();
-  sub->add_option("--config", o->config, "accepted for symmetry; the artifact carries its configuration");
+  sub->add_option("--scenario", o->scenario, "scenario file (default: " + std::string(kDefaultScenario) + ")");
+  sub->add_option("--config", o->config, "a design config whose vehicle the plant flies (default: the artifact's)")
+      ->check(CLI::ExistingFile);
   sub->add_option("--solver", o->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
   sub->add_option("--explicit", o->explicit_law, "explicit law for --solver explicit (default: CONTROLLER + 'x')");
-  sub->add_option("--plant", o->plant, "el | mujoco")->check(CLI::IsMember({"el", "mujoco"}));
-  sub->add_option("--duration", o->duration, "seconds")->check(CLI::PositiveNumber);
-  sub->add_flag("--no-disturbance", o->no_disturbance, "without the 1 N steps");
-  sub->add_option("--run", o->run, "Monte Carlo run index (masses and inertias perturbed)");
-  sub->add_option("--monte-carlo", o->monte_carlo, "K perturbed runs (thesis: 10), campaign metrics in OUT/metrics.json")
+  sub->add_option("--plant", o->plant, "el | mujoco (default: the scenario's)")->check(CLI::IsMember({"el", "mujoco"}));
+  sub->add_option("--duration", o->duration, "seconds (at most the scenario's)")->check(CLI::PositiveNumber);
+  sub->add_flag("--no-disturbance", o->no_disturbance, "without the scenario's disturbances");
+  sub->add_option("--run", o->run, "Monte Carlo run index (masses and inertias drawn per the scenario)");
+  sub->add_option("--monte-carlo", o->monte_carlo, "K drawn runs (thesis: 10), campaign metrics in OUT/metrics.json")
       ->check(CLI::Range(1, 100000));
-  sub->add_option("--seed", o->seed, "perturbation seed (default: the config's perturbation.seed)")
+  sub->add_option("--seed", o->seed, "Monte Carlo seed (default: the scenario's plant.random.seed)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("--reinit", o->reinit, "re-initialise the nominal state to the measured error when admissible");
-  sub->add_option("--tube-law", o->tube_law, "tube law, overriding the config's tube_law.offset_free")
+  sub->add_option("--tube-law", o->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
-  sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the config's)")
+  sub->add_option("--observer", o->observer, "offset-free observer: residual or kalman (default: the artifact's)")
+      ->check(CLI::IsMember({"residual", "kalman"}));
+  sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));
   sub->add_option("--out", o->out, "output directory");
   sub->callback([o]() { run_simulate(*o); });

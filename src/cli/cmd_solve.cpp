@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/explicit/explicit_solver.hpp"
+#include "tmpc/runtime/controller_solver.hpp"
 #include "tmpc/solvers/kkt.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"

@@ -8,6 +8,9 @@
 
 namespace tmpc::cli {
 
+/// The main job's scenario, relative to the repository (or the install's share folder).
+constexpr const char* kDefaultScenario = "config/scenarios/thesis_helix.yaml";
+
 /// `tmpc model --config FILE [--json]`: equilibrium, feedforward, linear error model.
 void register_model(CLI::App& app);
 
@@ -28,6 +31,8 @@ void register_devices(CLI::App& app);
 void register_explicit(CLI::App& app);
 void register_compare(CLI::App& app);
 void register_realtime(CLI::App& app);
+/// `tmpc check`: a scenario's trajectory against an artifact's envelope, before flight.
+void register_check(CLI::App& app);
 
 /// The names --solver accepts: every QP solver of this build, then "explicit".
 std::vector<std::string> solver_choices();

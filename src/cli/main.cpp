@@ -27,8 +27,11 @@ int main(int argc, char** argv) {
   tmpc::cli::register_explicit(app);
   tmpc::cli::register_compare(app);
   tmpc::cli::register_realtime(app);
+  tmpc::cli::register_check(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {  // a command's verdict (tmpc check: refused), already printed
+    return e.get_exit_code();              // (before ParseError, which it derives from)
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const tmpc::ArtifactError& e) {

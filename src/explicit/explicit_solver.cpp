@@ -80,16 +80,4 @@ std::unique_ptr<QpSolver> make_explicit_solver(const ControllerArtifact& a, Expl
   return std::make_unique<ExplicitSolver>(a, std::move(law), locator, scan_threads);
 }
 
-std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const ControllerArtifact& a,
-                                                 const SolverOptions& options, const std::string& explicit_path,
-                                                 bool offset_free) {
-  if (name != "explicit") return make_solver(name, a.qp(offset_free), options);
-  if (offset_free) {
-    throw std::invalid_argument("solver 'explicit' has no offset-free form (its regions partition the nominal state "
-                                "only): fly it with --tube-law mayne, or use an online solver");
-  }
-  if (explicit_path.empty()) throw std::invalid_argument("solver 'explicit' needs the explicit law's file (tmpc explicit)");
-  return make_explicit_solver(a, load_explicit(explicit_path, &a));
-}
-
 }  // namespace tmpc

@@ -1,4 +1,4 @@
-// Closed-loop mission on a virtual clock.
+// Closed-loop mission on a virtual clock (see mission.hpp).
 #include "tmpc/metrics/mission.hpp"
 
 #include <algorithm>
@@ -7,11 +7,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tmpc/explicit/explicit_solver.hpp"
-#include "tmpc/model/reference.hpp"
+#include "tmpc/runtime/controller_solver.hpp"
+#include "tmpc/runtime/plant_loop.hpp"
+#include "tmpc/runtime/preflight.hpp"
+#include "tmpc/runtime/reference_source.hpp"
 #include "tmpc/runtime/tracking_error.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
-#include "tmpc/sim/plant.hpp"
+#include "tmpc/sim/noise.hpp"
+#include "tmpc/sim/plant_model.hpp"
 
 namespace tmpc {
 
@@ -36,129 +39,177 @@ class RecordingSolver final : public QpSolver {
   std::vector<Eigen::VectorXd>* out_;
 };
 
+
 }  // namespace
 
-MissionMetrics run_mission(const ControllerArtifact& a, const MissionOptions& o) {
-  Config cfg = load_config_from_string(a.config_text, "artifact");
-  if (o.seed >= 0) cfg.perturbation.seed = static_cast<unsigned>(o.seed);
-  const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
-  auto plant = make_plant(o.plant, cfg, o.disturbance, o.run);
+MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, const MissionOptions& o) {
+  const double duration = o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration;
+  require_flight(a, *sc.trajectory, duration, "scenario " + sc.name);
+  const int p = a.measured, m = a.m;
   SolverOptions so;
-  so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
-  so.eta = cfg.solver.admm_eta;
-  TubeControllerOptions to = tube_law_options(cfg, o.tube_law, o.observer_gain);
+  so.eps_abs = so.eps_rel = a.solver.admm_epsilon;
+  so.eta = a.solver.admm_eta;
+  TubeControllerOptions to = tube_law_options(a, o.tube_law, o.observer_gain, o.observer);
   to.reinitialize_nominal = o.reinitialize_nominal;
   std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
   if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
   TubeController ctrl(a, std::move(solver), to);
+  std::unique_ptr<ReferenceSource> reference = make_reference_source(a, sc.trajectory);
+  const std::vector<StateKind> kinds = a.measured_kinds();
+  Eigen::VectorXd x_r = Eigen::VectorXd::Zero(p), u_r = Eigen::VectorXd::Zero(m), measured = x_r;
+  reference->at(0.0, x_r, u_r);
+  PlantModel pm = PlantSetup::from_artifact(a).model;
+  if (o.plant_vehicle != nullptr) pm.vehicle = *o.plant_vehicle;
+  auto plant = make_scenario_plant(pm, sc, x_r, o.run, o.seed, o.plant);
+  SensorNoise noise(sc.noise, kinds);
 
-  MissionMetrics m;
-  m.solver = o.solver;
-  m.plant = o.plant;
-  m.offset_free = to.offset_free;
+  MissionMetrics mm;
+  mm.solver = o.solver;
+  mm.plant = plant->name();
+  mm.scenario = sc.name;
+  mm.offset_free = to.offset_free;
+  mm.estimator = to.offset_free ? to.observer : "none";
+  mm.noisy = sc.noise.any();
+  mm.state_names.assign(a.state_names.begin(), a.state_names.begin() + p);
+  mm.input_names = a.input_names;
+  mm.rmse.assign(static_cast<std::size_t>(p), 0.0);
+  mm.max_abs_error.assign(static_cast<std::size_t>(p), 0.0);
+  mm.tcv.assign(static_cast<std::size_t>(m), 0.0);
   const double T = a.sample_time;
-  const long K = std::lround(o.duration / T);
-  const ReferencePoint r0 = traj.at(0.0);
-  State20 x0;
-  x0 << r0.q, r0.qd;  // start on the reference (E8)
-  plant->reset(x0, 0.0);
-  TrackingError err;
-  ctrl.reset(err.value());
-  Eigen::Vector4d u_prev = Eigen::Vector4d::Zero();
+  const long K = std::lround(duration / T);
+  TrackingError err(kinds, a.integrated), truth(kinds, a.integrated);
+  Eigen::VectorXd u_prev = Eigen::VectorXd::Zero(m);
   std::vector<double> solve;
   solve.reserve(static_cast<std::size_t>(K));
-  std::array<double, 10> sq{};
-  std::vector<double> step_times;
-  for (const DisturbanceStep& s : cfg.disturbances) step_times.push_back(s.time);
-  m.tube_exits_per_step.assign(o.disturbance ? step_times.size() + 1 : 1, 0);
-  m.tube_ratio_max_per_step.assign(m.tube_exits_per_step.size(), 0.0);
-  m.tube_settle_s_per_step.assign(m.tube_exits_per_step.size(), 0.0);
+  std::vector<double> sq(static_cast<std::size_t>(p), 0.0);
+  mm.window_starts = {0.0};
+  for (double t : sc.disturbances.event_times()) {
+    if (t > 0.0 && t < duration) mm.window_starts.push_back(t);
+  }
+  const std::size_t windows = mm.window_starts.size();
+  mm.tube_exits_per_step.assign(windows, 0);
+  mm.tube_ratio_max_per_step.assign(windows, 0.0);
+  mm.tube_settle_s_per_step.assign(windows, 0.0);
   std::vector<long> worst_count(static_cast<std::size_t>(a.n), 0);
   std::ofstream csv;
   if (!o.telemetry_csv.empty()) {
     csv.open(o.telemetry_csv);
+    if (!csv) throw std::runtime_error(o.telemetry_csv + ": cannot write the telemetry");
     csv << "t";
-    for (const char* n : kCoordNames) csv << ",e_" << n;
-    for (const char* n : kCoordNames) csv << ",r_" << n;
-    csv << ",u_f_r,u_f_l,u_tau_r,u_tau_l,ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,status,iterations,solve_us,fallback,"
-           "clipped,in_tube,in_state_box,tube_ratio,tube_worst,dhat_x,dhat_y,dhat_z\n";
+    for (int i = 0; i < p; ++i) csv << ",e_" << a.state_names[static_cast<std::size_t>(i)];
+    for (int i = 0; i < p; ++i) csv << ",r_" << a.state_names[static_cast<std::size_t>(i)];
+    for (const std::string& n : a.input_names) csv << ",u_" << n;
+    for (const std::string& n : a.input_names) csv << ",ubar_" << n;
+    csv << ",status,iterations,solve_us,fallback,clipped,in_tube,in_state_box,tube_ratio,tube_worst,softened,slack_max";
+    for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, a.D.cols()); ++i) csv << ",dhat_" << "xyz"[i];
+    csv << "\n";
   }
   const double box_limit = 10.0;
   for (long k = 0; k < K; ++k) {
     const double t = static_cast<double>(k) * T;
-    const ReferencePoint r = traj.at(t);
-    const State20& x = plant->state();
-    const Eigen::VectorXd& xt = err.update(x, r);
-    if (!xt.allFinite() || (a.N_x.cwiseProduct(xt).cwiseAbs().array() > box_limit).any()) {
-      m.diverged = true;
+    if (!reference->at(t, x_r, u_r)) {
+      mm.diverged = true;
       break;
     }
-    const Eigen::Vector4d ur = feedforward(model, r);
-    const ControlStep& s = ctrl.step(xt, ur);
+    const Eigen::VectorXd& xt_true = truth.update(plant->state(), x_r);
+    measured = plant->state();
+    noise.apply(measured);
+    const Eigen::VectorXd& xt = err.update(measured, x_r);
+    if (!xt_true.allFinite() || (a.N_x.cwiseProduct(xt_true).cwiseAbs().array() > box_limit).any()) {
+      mm.diverged = true;
+      break;
+    }
+    if (k == 0) ctrl.reset(xt);  // the nominal starts at the first measured error (a start offset)
+    const ControlStep& s = ctrl.step(xt, u_r);
     plant->advance(s.u, T);
     err.integrate(T);
-    ++m.periods;
-    for (int i = 0; i < 10; ++i) sq[static_cast<std::size_t>(i)] += xt(i) * xt(i);
-    for (int i = 0; i < 3; ++i) m.max_abs_error[static_cast<std::size_t>(i)] = std::max(m.max_abs_error[static_cast<std::size_t>(i)], std::abs(xt(i)));
+    truth.integrate(T);
+    ++mm.periods;
+    for (int i = 0; i < p; ++i) {
+      sq[static_cast<std::size_t>(i)] += xt_true(i) * xt_true(i);
+      mm.max_abs_error[static_cast<std::size_t>(i)] = std::max(mm.max_abs_error[static_cast<std::size_t>(i)], std::abs(xt_true(i)));
+    }
     if (k > 0) {
-      for (int i = 0; i < 4; ++i) m.tcv[static_cast<std::size_t>(i)] += std::abs(s.u(i) - u_prev(i));
+      for (int i = 0; i < m; ++i) mm.tcv[static_cast<std::size_t>(i)] += std::abs(s.u(i) - u_prev(i));
     }
     u_prev = s.u;
+    if (to.offset_free) mm.d_hat_final.assign(s.d_hat.data(), s.d_hat.data() + s.d_hat.size());
     solve.push_back(s.solve_us);
-    m.iterations_mean += s.iterations;
-    m.iterations_max = std::max(m.iterations_max, s.iterations);
-    m.fallback_periods += s.fallback;
-    m.clipped_periods += s.clipped;
-    m.state_constraint_violations += !s.in_state_box;
-    for (int i = 0; i < 3; ++i) m.d_hat_final[static_cast<std::size_t>(i)] = s.d_hat(i);
-    std::size_t w = 0;  // the disturbance window of this period
-    if (o.disturbance) {
-      while (w < step_times.size() && t >= step_times[w]) ++w;
+    mm.iterations_mean += s.iterations;
+    mm.iterations_max = std::max(mm.iterations_max, s.iterations);
+    mm.fallback_periods += s.fallback;
+    mm.clipped_periods += s.clipped;
+    const Eigen::VectorXd ratio = a.N_x.cwiseProduct(xt_true).cwiseAbs();  // X is the unit box
+    Eigen::Index vw = 0;
+    const double vr = ratio.maxCoeff(&vw);
+    if (vr > 1.0) {
+      ++mm.state_constraint_violations;
+      if (vr > mm.violation_max_ratio) {
+        mm.violation_max_ratio = vr;
+        mm.violation_worst_state = a.state_names[static_cast<std::size_t>(vw)];
+      }
     }
-    m.tube_ratio_max_per_step[w] = std::max(m.tube_ratio_max_per_step[w], s.tube_ratio);
+    if (s.softened) {
+      ++mm.softened_periods;
+      if (s.slack_max > mm.slack_max) {
+        mm.slack_max = s.slack_max;
+        mm.slack_worst_state = a.state_names[static_cast<std::size_t>(s.slack_state)];
+      }
+    }
+    std::size_t w = 0;  // the window of this period
+    while (w + 1 < windows && t >= mm.window_starts[w + 1]) ++w;
+    mm.tube_ratio_max_per_step[w] = std::max(mm.tube_ratio_max_per_step[w], s.tube_ratio);
     if (!s.in_tube) {
-      ++m.tube_exits;
-      ++m.tube_exits_per_step[w];
-      m.tube_settle_s_per_step[w] = t + T - (w == 0 ? 0.0 : step_times[w - 1]);
+      ++mm.tube_exits;
+      ++mm.tube_exits_per_step[w];
+      mm.tube_settle_s_per_step[w] = t + T - mm.window_starts[w];
       ++worst_count[static_cast<std::size_t>(s.tube_worst)];
     }
     if (csv) {
       csv << t;
-      for (int i = 0; i < 10; ++i) csv << "," << xt(i);
-      for (int i = 0; i < 10; ++i) csv << "," << r.q(i);
-      for (int i = 0; i < 4; ++i) csv << "," << s.u(i);
-      for (int i = 0; i < 4; ++i) csv << "," << s.u_bar(i);
+      for (int i = 0; i < p; ++i) csv << "," << xt_true(i);
+      for (int i = 0; i < p; ++i) csv << "," << x_r(i);
+      for (int i = 0; i < m; ++i) csv << "," << s.u(i);
+      for (int i = 0; i < m; ++i) csv << "," << s.u_bar(i);
       csv << "," << to_string(s.status) << "," << s.iterations << "," << s.solve_us << "," << s.fallback << ","
-          << s.clipped << "," << s.in_tube << "," << s.in_state_box << "," << s.tube_ratio << ","
-          << s.tube_worst << "," << s.d_hat(0) << "," << s.d_hat(1) << "," << s.d_hat(2) << "\n";
+          << s.clipped << "," << s.in_tube << "," << a.X.contains(a.N_x.cwiseProduct(xt_true)) << "," << s.tube_ratio
+          << "," << s.tube_worst << "," << s.softened << "," << s.slack_max;
+      for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, s.d_hat.size()); ++i) csv << "," << s.d_hat(i);
+      csv << "\n";
     }
   }
   const auto most = std::max_element(worst_count.begin(), worst_count.end());
-  if (m.tube_exits > 0) m.tube_worst_state = error_state_name(static_cast<int>(most - worst_count.begin()));
-  const double n = std::max<double>(1.0, static_cast<double>(m.periods));
-  for (int i = 0; i < 10; ++i) m.rmse[static_cast<std::size_t>(i)] = std::sqrt(sq[static_cast<std::size_t>(i)] / n);
-  m.iterations_mean /= n;
+  if (mm.tube_exits > 0) mm.tube_worst_state = a.state_names[static_cast<std::size_t>(most - worst_count.begin())];
+  const double n = std::max<double>(1.0, static_cast<double>(mm.periods));
+  for (int i = 0; i < p; ++i) mm.rmse[static_cast<std::size_t>(i)] = std::sqrt(sq[static_cast<std::size_t>(i)] / n);
+  mm.iterations_mean /= n;
   if (!solve.empty()) {
     std::sort(solve.begin(), solve.end());
-    auto pct = [&](double p) { return solve[std::min(solve.size() - 1, static_cast<std::size_t>(p * solve.size()))]; };
-    m.solve_min = solve.front();
-    m.solve_max = solve.back();
-    m.solve_p50 = pct(0.5);
-    m.solve_p99 = pct(0.99);
+    auto pct = [&](double q) { return solve[std::min(solve.size() - 1, static_cast<std::size_t>(q * solve.size()))]; };
+    mm.solve_min = solve.front();
+    mm.solve_max = solve.back();
+    mm.solve_p50 = pct(0.5);
+    mm.solve_p99 = pct(0.99);
     double sum = 0;
     for (double v : solve) sum += v;
-    m.solve_mean = sum / static_cast<double>(solve.size());
+    mm.solve_mean = sum / static_cast<double>(solve.size());
   }
-  return m;
+  return mm;
 }
 
 std::string metrics_json(const MissionMetrics& m) {
   nlohmann::json j;
-  nlohmann::json rmse;
-  for (int i = 0; i < 10; ++i) rmse[kCoordNames[static_cast<std::size_t>(i)]] = m.rmse[static_cast<std::size_t>(i)];
+  nlohmann::json rmse, max_abs;
+  auto name = [](const std::vector<std::string>& names, std::size_t i, const char* what) {
+    return i < names.size() ? names[i] : std::string(what) + "_" + std::to_string(i);
+  };
+  for (std::size_t i = 0; i < m.rmse.size(); ++i) rmse[name(m.state_names, i, "state")] = m.rmse[i];
+  for (std::size_t i = 0; i < m.max_abs_error.size(); ++i) max_abs[name(m.state_names, i, "state")] = m.max_abs_error[i];
   j["rmse"] = rmse;
-  j["tcv"] = {{"f_r", m.tcv[0]}, {"f_l", m.tcv[1]}, {"tau_r", m.tcv[2]}, {"tau_l", m.tcv[3]}};
+  j["max_abs_error"] = max_abs;
+  nlohmann::json tcv;
+  for (std::size_t i = 0; i < m.tcv.size(); ++i) tcv[name(m.input_names, i, "input")] = m.tcv[i];
+  j["tcv"] = tcv;
   j["solve_us"] = {{"min", m.solve_min}, {"mean", m.solve_mean}, {"p50", m.solve_p50}, {"p99", m.solve_p99}, {"max", m.solve_max}};
   j["iterations"] = {{"mean", m.iterations_mean}, {"max", m.iterations_max}};
   j["periods"] = m.periods;
@@ -166,14 +217,20 @@ std::string metrics_json(const MissionMetrics& m) {
   j["fallback_periods"] = m.fallback_periods;
   j["clipped_periods"] = m.clipped_periods;
   j["tube_exits"] = {{"total", m.tube_exits},
+                     {"window_starts", m.window_starts},
                      {"per_disturbance_step", m.tube_exits_per_step},
                      {"max_distance_per_step", m.tube_ratio_max_per_step},
                      {"settle_s_per_step", m.tube_settle_s_per_step},
                      {"worst_state", m.tube_worst_state}};
   j["state_constraint_violations"] = m.state_constraint_violations;
-  j["max_abs_error"] = {{"x", m.max_abs_error[0]}, {"y", m.max_abs_error[1]}, {"z", m.max_abs_error[2]}};
+  j["violation"] = {{"max_ratio", m.violation_max_ratio}, {"worst_state", m.violation_worst_state}};
+  j["softened"] = {{"periods", m.softened_periods}, {"slack_max", m.slack_max}, {"worst_state", m.slack_worst_state}};
+  j["estimator"] = m.estimator;
+  j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;
+  j["scenario"] = m.scenario;
+  j["noisy_sensors"] = m.noisy;
   j["tube_law"] = m.offset_free ? "offset-free" : "mayne";
   j["diverged"] = m.diverged;
   return j.dump(2);

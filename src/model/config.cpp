@@ -8,153 +8,27 @@
 #include <cstring>
 #include <fstream>
 #include <initializer_list>
+#include <algorithm>
 #include <set>
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
 #include <yaml-cpp/yaml.h>
 
+#include "trajectory_yaml.hpp"
+#include "yaml_section.hpp"
+
 #include "tmpc/model/dynamics.hpp"
 #include "tmpc/model/equilibrium.hpp"
+#include "tmpc/model/kinematic_tree.hpp"
 
 namespace tmpc {
 
 namespace {
 
-/// A YAML mapping with its dotted path; every access is checked and every key
-/// that is not read is reported as unknown by finish().
-class Section {
- public:
-  Section(YAML::Node node, std::string path, const std::string& file)
-      : node_(std::move(node)), path_(std::move(path)), file_(file) {
-    if (!node_ || !node_.IsMap()) fail(path_.empty() ? "(top level)" : path_, "expected a mapping");
-    // yaml-cpp keeps every duplicate and node[k] returns the first: a later value of
-    // the same key would be ignored silently. Keys must also be plain names.
-    std::set<std::string> seen;
-    for (const auto& kv : node_) {
-      if (!kv.first.IsScalar()) {
-        fail(path_.empty() ? "(top level)" : path_,
-             "a key must be a plain name, found a " + std::string(kv.first.IsSequence() ? "list" : "mapping") +
-                 " at line " + std::to_string(kv.first.Mark().line + 1));
-      }
-      const std::string k = kv.first.Scalar();
-      if (!seen.insert(k).second) {
-        fail(key(k), "duplicate key (again at line " + std::to_string(kv.first.Mark().line + 1) +
-                         "; only one value is allowed)");
-      }
-    }
-  }
+using detail::Section;
+using detail::vec3;
 
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw ConfigError(file_ + ": " + key + ": " + what);
-  }
-  std::string key(const std::string& k) const { return path_.empty() ? k : path_ + "." + k; }
-
-  YAML::Node raw(const std::string& k) {
-    used_.insert(k);
-    YAML::Node n = node_[k];
-    if (!n) fail(key(k), "missing");
-    return n;
-  }
-  bool has(const std::string& k) const { return static_cast<bool>(node_[k]); }
-
-  Section section(const std::string& k) { return Section(raw(k), key(k), file_); }
-
-  double number(const std::string& k) {
-    YAML::Node n = raw(k);
-    return to_number(n, key(k));
-  }
-  double number_in(const std::string& k, double lo, double hi) {
-    const double v = number(k);
-    if (v < lo || v > hi) {
-      std::ostringstream os;
-      os << "out of range: " << v << " not in [" << lo << ", " << hi << "]";
-      fail(key(k), os.str());
-    }
-    return v;
-  }
-  /// A whole number in [lo, hi] ("horizon: 20.7" is an error, not 20).
-  int integer_in(const std::string& k, long lo, long hi) {
-    const double v = number(k);
-    if (std::floor(v) != v) fail(key(k), "expected a whole number, got " + fmt(v));
-    if (v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
-      fail(key(k), "out of range: " + fmt(v) + " not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    }
-    return static_cast<int>(v);
-  }
-  double positive(const std::string& k) {
-    const double v = number(k);
-    if (!(v > 0.0)) fail(key(k), "must be positive (got " + fmt(v) + ")");
-    return v;
-  }
-  std::string text(const std::string& k, std::initializer_list<const char*> allowed) {
-    YAML::Node n = raw(k);
-    if (!n.IsScalar()) fail(key(k), "expected a string");
-    const std::string s = n.as<std::string>();
-    std::string list;
-    for (const char* a : allowed) {
-      if (s == a) return s;
-      list += list.empty() ? a : std::string(", ") + a;
-    }
-    fail(key(k), "unknown value '" + s + "' (expected one of: " + list + ")");
-  }
-  bool flag(const std::string& k) {
-    YAML::Node n = raw(k);
-    if (!n.IsScalar()) fail(key(k), "expected true or false");
-    const std::string v = n.as<std::string>();
-    if (v == "true") return true;
-    if (v == "false") return false;
-    fail(key(k), "expected true or false, got '" + v + "'");
-  }
-  std::vector<double> vector(const std::string& k, std::size_t n) {
-    return vector_of(raw(k), key(k), n);
-  }
-  std::vector<double> vector_of(const YAML::Node& node, const std::string& name, std::size_t n) const {
-    if (!node.IsSequence()) fail(name, "expected a list of " + std::to_string(n) + " numbers");
-    if (node.size() != n) {
-      fail(name, "expected " + std::to_string(n) + " values, got " + std::to_string(node.size()));
-    }
-    std::vector<double> out(n);
-    for (std::size_t i = 0; i < n; ++i) out[i] = to_number(node[i], name + "[" + std::to_string(i) + "]");
-    return out;
-  }
-
-  /// Report keys that were never read (typos, unsupported options).
-  void finish() const {
-    for (const auto& kv : node_) {
-      const std::string k = kv.first.Scalar();
-      if (used_.count(k) == 0) fail(key(k), "unknown key");
-    }
-  }
-
- private:
-  static std::string fmt(double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  }
-  double to_number(const YAML::Node& n, const std::string& name) const {
-    if (!n.IsScalar()) fail(name, "expected a number");
-    double v = 0.0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(name, "expected a number, got '" + n.as<std::string>() + "'");
-    }
-    if (!std::isfinite(v)) fail(name, "must be finite (got " + n.as<std::string>() + ")");
-    return v;
-  }
-
-  YAML::Node node_;
-  std::string path_;
-  const std::string& file_;
-  std::set<std::string> used_;
-};
-
-Eigen::Vector3d vec3(Section& s, const std::string& k) {
-  const auto v = s.vector(k, 3);
-  return {v[0], v[1], v[2]};
-}
 
 /// 3x3 inertia: symmetric, positive definite, triangle inequality checked by the
 /// caller where the body must be physical.
@@ -242,11 +116,42 @@ void load_vehicle(Section v, VehicleParams& p) {
   v.finish();
 }
 
-template <int N>
-Eigen::Matrix<double, N, 1> to_eigen(const std::vector<double>& v) {
-  Eigen::Matrix<double, N, 1> out;
-  for (int i = 0; i < N; ++i) out[i] = v[static_cast<std::size_t>(i)];
-  return out;
+Eigen::VectorXd to_eigen(const std::vector<double>& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+void load_linear(Section s, LinearModelSpec& l) {
+  l.A = s.matrix("A", -1, -1);
+  const long n = l.A.rows();
+  if (l.A.cols() != n) s.fail(s.key("A"), "must be square (" + std::to_string(n) + "x" + std::to_string(l.A.cols()) + ")");
+  if (n > 40) s.fail(s.key("A"), "at most 40 states (the serial frame carries 48 values)");
+  l.B = s.matrix("B", n, -1);
+  l.D = s.has("D") ? s.matrix("D", n, -1) : Eigen::MatrixXd::Zero(n, 1);
+  for (Section st : s.sections("states")) {
+    l.state_names.push_back(st.string("name"));
+    try {
+      l.kinds.push_back(state_kind_from_string(st.string("kind")));
+    } catch (const std::invalid_argument& e) {
+      st.fail(st.key("kind"), e.what());
+    }
+    if (l.kinds.back() == StateKind::Integral) st.fail(st.key("kind"), "integral states are made by `integrate`, not listed");
+    st.finish();
+  }
+  if (static_cast<long>(l.state_names.size()) != n) {
+    s.fail(s.key("states"), "expected " + std::to_string(n) + " states (A is " + std::to_string(n) + "x" +
+                                std::to_string(n) + "), got " + std::to_string(l.state_names.size()));
+  }
+  l.input_names = s.strings("inputs");
+  if (static_cast<long>(l.input_names.size()) != l.B.cols()) {
+    s.fail(s.key("inputs"), "expected " + std::to_string(l.B.cols()) + " names (B has " + std::to_string(l.B.cols()) +
+                                " columns), got " + std::to_string(l.input_names.size()));
+  }
+  for (const std::string& name : s.has("integrate") ? s.strings("integrate") : std::vector<std::string>{}) {
+    const auto it = std::find(l.state_names.begin(), l.state_names.end(), name);
+    if (it == l.state_names.end()) s.fail(s.key("integrate"), "no state named '" + name + "'");
+    l.integrated.push_back(static_cast<int>(it - l.state_names.begin()));
+  }
+  s.finish();
 }
 
 Config parse(const YAML::Node& root_node, const std::string& source) {
@@ -254,19 +159,46 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
   c.source = source;
   Section root(root_node, "", c.source);
 
-  load_vehicle(root.section("vehicle"), c.vehicle);
+  c.model = root.has("model") && root.text("model", {"tiltrotor", "linear"}) == "linear" ? ModelKind::Linear
+                                                                                         : ModelKind::Tiltrotor;
+  if (c.model == ModelKind::Tiltrotor) {
+    load_vehicle(root.section("vehicle"), c.vehicle);
+  } else {
+    load_linear(root.section("linear"), c.linear);
+  }
+  const int n = c.states(), m = c.inputs(), p = c.measured();
 
-  {
+  if (root.has("reference")) {
     Section s = root.section("reference");
-    c.reference.radius = s.number_in("radius", 0.0, 1e4);
-    c.reference.center_x = s.number("center_x");
-    c.reference.center_y = s.number("center_y");
-    c.reference.z_offset = s.number("z_offset");
-    c.reference.z_amplitude = s.number_in("z_amplitude", 0.0, 1e4);
-    c.reference.angular_rate = s.number_in("angular_rate", 0.0, 100.0);
-    c.reference.yaw = s.number_in("yaw", -M_PI, M_PI);
-    c.reference.attitude = s.text("attitude", {"trim", "equilibrium"}) == "trim" ? ReferenceAttitude::Trim
-                                                                               : ReferenceAttitude::Equilibrium;
+    c.attitude = s.text("attitude", {"trim", "equilibrium"}) == "trim" ? ReferenceAttitude::Trim
+                                                                     : ReferenceAttitude::Equilibrium;
+    s.finish();
+  }
+
+  if (c.model == ModelKind::Tiltrotor) {
+    Section s = root.section("envelope");
+    EnvelopeSettings& e = c.envelope;
+    e.yaw = s.number_in("yaw", -M_PI, M_PI);
+    e.yaw_tolerance = s.number_in("yaw_tolerance", 0.0, M_PI);
+    const bool from = s.has("trajectories");
+    if (from) {
+      e.trajectories = s.strings("trajectories");
+      if (e.trajectories.empty()) s.fail(s.key("trajectories"), "expected at least one scenario file");
+      if (s.has("margin")) e.margin = s.number_in("margin", 0.0, 10.0);
+    }
+    if (!from || s.has("acceleration_min")) {
+      e.acceleration_min = vec3(s, "acceleration_min");
+      e.acceleration_max = vec3(s, "acceleration_max");
+      for (int i = 0; i < 3; ++i) {
+        if (!(e.acceleration_max(i) >= e.acceleration_min(i))) {
+          s.fail(s.key("acceleration_max") + "[" + std::to_string(i) + "]", "must be >= acceleration_min");
+        }
+        if (std::abs(e.acceleration_min(i)) > 50.0 || std::abs(e.acceleration_max(i)) > 50.0) {
+          s.fail(s.key("acceleration_max") + "[" + std::to_string(i) + "]", "beyond 50 m/s^2: not a flight envelope");
+        }
+      }
+      e.speed_max = s.number_in("speed_max", 0.0, 100.0);
+    }
     s.finish();
   }
 
@@ -274,18 +206,18 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
 
   {
     Section s = root.section("constraints");
-    c.input_min = to_eigen<4>(s.vector("input_min", 4));
-    c.input_max = to_eigen<4>(s.vector("input_max", 4));
-    for (int i = 0; i < 4; ++i) {
+    c.input_min = to_eigen(s.vector("input_min", static_cast<std::size_t>(m)));
+    c.input_max = to_eigen(s.vector("input_max", static_cast<std::size_t>(m)));
+    for (int i = 0; i < m; ++i) {
       if (!(c.input_max[i] > c.input_min[i])) {
         s.fail(s.key("input_max") + "[" + std::to_string(i) + "]", "must exceed input_min");
       }
     }
-    if (c.input_min[0] < 0.0 || c.input_min[1] < 0.0) {
+    if (c.model == ModelKind::Tiltrotor && (c.input_min[0] < 0.0 || c.input_min[1] < 0.0)) {
       s.fail(s.key("input_min"), "thrusts cannot be negative");
     }
-    c.state_error_max = to_eigen<24>(s.vector("state_error_max", 24));
-    for (int i = 0; i < 24; ++i) {
+    c.state_error_max = to_eigen(s.vector("state_error_max", static_cast<std::size_t>(n)));
+    for (int i = 0; i < n; ++i) {
       if (!(c.state_error_max[i] > 0.0)) {
         s.fail(s.key("state_error_max") + "[" + std::to_string(i) + "]", "half-width must be positive");
       }
@@ -295,14 +227,14 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
 
   {
     Section s = root.section("weights");
-    c.input_weights = to_eigen<4>(s.vector("input", 4));
-    c.state_weights = to_eigen<24>(s.vector("state", 24));
-    for (int i = 0; i < 4; ++i) {
+    c.input_weights = to_eigen(s.vector("input", static_cast<std::size_t>(m)));
+    c.state_weights = to_eigen(s.vector("state", static_cast<std::size_t>(n)));
+    for (int i = 0; i < m; ++i) {
       if (!(c.input_weights[i] > 0.0)) {
         s.fail(s.key("input") + "[" + std::to_string(i) + "]", "weight must be positive");
       }
     }
-    for (int i = 0; i < 24; ++i) {
+    for (int i = 0; i < n; ++i) {
       if (!(c.state_weights[i] > 0.0)) {
         s.fail(s.key("state") + "[" + std::to_string(i) + "]", "weight must be positive");
       }
@@ -311,38 +243,8 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
   }
 
   {
-    Section s = root.section("disturbance");
-    YAML::Node steps = s.raw("steps");
-    const std::string name = s.key("steps");
-    if (!steps.IsSequence()) s.fail(name, "expected a list of {time, force}");
-    double last = -1.0;
-    for (std::size_t i = 0; i < steps.size(); ++i) {
-      Section step(steps[i], name + "[" + std::to_string(i) + "]", c.source);
-      DisturbanceStep d;
-      d.time = step.number_in("time", 0.0, 1e6);
-      if (d.time < last) step.fail(step.key("time"), "steps must be in time order");
-      last = d.time;
-      d.force = vec3(step, "force");
-      step.finish();
-      c.disturbances.push_back(d);
-    }
-    s.finish();
-  }
-
-  {
-    Section s = root.section("perturbation");
-    c.perturbation.fraction = s.number_in("fraction", 0.0, 0.9);
-    c.perturbation.distribution = s.text("distribution", {"uniform", "normal"});
-    c.perturbation.seed = static_cast<unsigned>(s.integer_in("seed", 0, 2147483647L));
-    c.perturbation.runs = s.integer_in("runs", 1, 1000000);
-    s.finish();
-  }
-
-  {
     Section s = root.section("simulation");
-    c.simulation.duration = s.number_in("duration", 0.0, 1e6);
     c.simulation.substep = s.number_in("substep", 1e-6, 0.1);
-    c.simulation.plant = s.text("plant", {"el", "mujoco"});
     s.finish();
     const double ratio = c.sample_time / c.simulation.substep;
     if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio) {
@@ -354,7 +256,7 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     Section s = root.section("error_model");
     const std::string d = s.text("discretization", {"zoh", "euler"});
     c.error_model.discretization = d == "zoh" ? Discretization::Zoh : Discretization::Euler;
-    c.error_model.lpv_sample_step = s.number_in("lpv_sample_step", 1e-3, 100.0);
+    c.error_model.envelope_grid = s.has("envelope_grid") ? s.integer_in("envelope_grid", 2, 21) : 5;
     s.finish();
   }
 
@@ -372,11 +274,55 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     s.finish();
   }
 
+  if (root.has("estimation")) {
+    Section s = root.section("estimation");
+    EstimationSettings& e = c.estimation;
+    e.observer = s.text("observer", {"residual", "kalman"});
+    e.measured = s.text("measured", {"all", "positions_angles_rates"});
+    {
+      Section n = s.section("measurement_noise");
+      const char* groups[] = {"position", "angle", "velocity", "angular_rate"};
+      for (std::size_t g = 0; g < 4; ++g) e.noise[g] = n.positive(groups[g]);
+      n.finish();
+    }
+    {
+      Section q = s.section("process_noise");
+      e.process_state_fraction = q.positive("state_fraction");
+      e.process_force = q.positive("force");
+      e.process_residual = q.positive("residual");
+      q.finish();
+    }
+    e.output_feedback_tube = s.has("output_feedback_tube") && s.flag("output_feedback_tube");
+    if (s.has("noise_bound_sigmas")) e.noise_bound_sigmas = s.number_in("noise_bound_sigmas", 0.5, 10.0);
+    if (s.has("force_rate_bound")) e.force_rate_bound = s.number_in("force_rate_bound", 0.0, 1e3);
+    if (s.has("residual_rate_bound")) e.residual_rate_bound = s.number_in("residual_rate_bound", 0.0, 1.0);
+    s.finish();
+    if (e.observer == "kalman" && !c.tube_law.offset_free) {
+      s.fail(s.key("observer"), "the Kalman filter estimates the offset-free law's disturbance: needs tube_law.offset_free: true");
+    }
+  }
+
+  if (root.has("soft_constraints")) {
+    Section s = root.section("soft_constraints");
+    c.soft_constraints.enabled = s.flag("enabled");
+    if (s.has("penalty")) c.soft_constraints.penalty = s.number_in("penalty", 0.0, 1e12);
+    if (s.has("safety_factor")) c.soft_constraints.safety_factor = s.number_in("safety_factor", 1.0, 1e6);
+    s.finish();
+  }
+
   {
     Section s = root.section("synthesis");
     SynthesisSettings& y = c.synthesis;
     y.tube_gain = s.text("tube_gain", {"lqr", "lmi_thesis", "lmi_robust"});
     y.compare_gains = s.flag("compare_gains");
+    y.lqr_input_scale = Eigen::VectorXd::Ones(c.inputs());
+    if (s.has("lqr_input_scale")) {
+      const std::vector<double> v = s.vector("lqr_input_scale", static_cast<std::size_t>(c.inputs()));
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        if (!(v[i] > 0.0)) s.fail(s.key("lqr_input_scale"), "entries must be positive");
+        y.lqr_input_scale(static_cast<Eigen::Index>(i)) = v[i];
+      }
+    }
     {
       Section l = s.section("lmi");
       YAML::Node lam = l.raw("lambda");
@@ -402,21 +348,26 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
       y.w_source = w.text("source", {"box", "sampled"});
       YAML::Node f = w.raw("state_fraction");
       if (f.IsSequence()) {
-        y.w_state_fraction = to_eigen<24>(w.vector("state_fraction", 24));
+        y.w_state_fraction = to_eigen(w.vector("state_fraction", static_cast<std::size_t>(n)));
       } else {
-        y.w_state_fraction.setConstant(w.number("state_fraction"));
+        y.w_state_fraction = Eigen::VectorXd::Constant(n, w.number("state_fraction"));
       }
-      for (int i = 0; i < 24; ++i) {
+      for (int i = 0; i < n; ++i) {
         if (!(y.w_state_fraction[i] >= 0.0 && y.w_state_fraction[i] < 1.0)) {
           w.fail(w.key("state_fraction"), "must be in [0, 1)");
         }
       }
-      y.w_disturbance = vec3(w, "disturbance");
+      const long nd = c.model == ModelKind::Tiltrotor ? 3 : c.linear.D.cols();
+      y.w_disturbance = to_eigen(w.vector("disturbance", static_cast<std::size_t>(nd)));
       if ((y.w_disturbance.array() < 0.0).any()) w.fail(w.key("disturbance"), "half-widths must be >= 0");
       y.w_samples = w.integer_in("samples", 1, 10000000);
       y.w_sample_fraction = w.number_in("sample_fraction", 0.0, 0.9);
       y.w_sample_box = w.number_in("sample_box", 0.0, 1.0);
+      if (w.has("seed")) y.w_seed = static_cast<unsigned>(w.integer_in("seed", 0, 2147483647L));
       w.finish();
+      if (c.model == ModelKind::Linear && y.w_source == "sampled") {
+        w.fail(w.key("source"), "sampled W needs the tiltrotor's nonlinear model (use box for a linear model)");
+      }
     }
     y.terminal_cost = s.text("terminal_cost", {"lqr", "lmi"});
     y.horizon = s.integer_in("horizon", 1, kMaxHorizon);
@@ -479,6 +430,7 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     s.finish();
   }
   root.finish();
+  (void)p;
   return c;
 }
 
@@ -487,7 +439,7 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
 void check_physics(const Config& c) {
   Equilibrium eq;
   try {
-    eq = solve_hover_equilibrium(TiltrotorModel(c.vehicle), c.reference.yaw);
+    eq = solve_hover_equilibrium(TiltrotorModel(c.vehicle), c.envelope.yaw);
   } catch (const std::exception& e) {
     throw ConfigError(c.source + ": vehicle: no hover equilibrium for these parameters (" + e.what() + ")");
   }
@@ -508,6 +460,40 @@ void check_physics(const Config& c) {
 
 }  // namespace
 
+int Config::measured() const { return model == ModelKind::Tiltrotor ? kNx : static_cast<int>(linear.A.rows()); }
+
+int Config::integrals() const { return static_cast<int>(integrated().size()); }
+
+int Config::inputs() const { return model == ModelKind::Tiltrotor ? kNu : static_cast<int>(linear.B.cols()); }
+
+std::vector<int> Config::integrated() const {
+  if (model == ModelKind::Linear) return linear.integrated;
+  return {kX, kY, kZ, kPsi};
+}
+
+std::vector<std::string> Config::state_names() const {
+  std::vector<std::string> names;
+  if (model == ModelKind::Linear) {
+    names = linear.state_names;
+  } else {
+    for (const char* q : kCoordNames) names.emplace_back(q);
+    for (const char* q : kCoordNames) names.push_back(std::string("d_") + q);
+  }
+  for (int i : integrated()) names.push_back("int_" + names[static_cast<std::size_t>(i)]);
+  return names;
+}
+
+std::vector<StateKind> Config::state_kinds() const {
+  std::vector<StateKind> k = model == ModelKind::Linear ? linear.kinds : tiltrotor_state_kinds();
+  if (model == ModelKind::Linear) k.resize(k.size() + integrated().size(), StateKind::Integral);
+  return k;
+}
+
+std::vector<std::string> Config::input_names() const {
+  if (model == ModelKind::Linear) return linear.input_names;
+  return {"f_r", "f_l", "tau_r", "tau_l"};
+}
+
 Eigen::Matrix3d VehicleParams::rotor_inertia_about_com() const {
   if (rotor_inertia_reference == RotorInertiaReference::Com) return rotor_inertia;
   // Parallel-axis theorem: I_pivot = I_com + m (|c|^2 I - c c').
@@ -516,19 +502,8 @@ Eigen::Matrix3d VehicleParams::rotor_inertia_about_com() const {
 }
 
 Config load_config_from_string(const std::string& yaml, const std::string& source) {
-  std::vector<YAML::Node> docs;
-  try {
-    docs = YAML::LoadAll(yaml);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(source + ": YAML syntax error: " + e.what());
-  }
-  if (docs.empty()) throw ConfigError(source + ": (top level): the file is empty");
-  if (docs.size() > 1) {
-    throw ConfigError(source + ": a second YAML document starts at line " + std::to_string(docs[1].Mark().line + 1) +
-                      " (a configuration is one document; remove the '---' or split the file)");
-  }
-  Config c = parse(docs[0], source);
-  check_physics(c);
+  Config c = parse(detail::load_single_document(yaml, source), source);
+  if (c.model == ModelKind::Tiltrotor) check_physics(c);
   return c;
 }
 
@@ -551,6 +526,49 @@ std::string read_config_file(const std::string& path, const char* what) {
   return text;
 }
 
-Config load_config(const std::string& path) { return load_config_from_string(read_config_file(path, "configuration"), path); }
+namespace {
+
+/// `over` laid over `base`: mappings merged key by key (recursively), anything else
+/// replaced. A key given twice in `over` is an error (yaml-cpp would keep both).
+YAML::Node merged(const YAML::Node& base, const YAML::Node& over, const std::string& source, const std::string& path) {
+  if (!over.IsMap() || !base.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  std::set<std::string> seen;
+  for (const auto& kv : over) {
+    if (!kv.first.IsScalar()) throw ConfigError(source + ": " + (path.empty() ? "(top level)" : path) + ": a key must be a plain name");
+    const std::string k = kv.first.Scalar();
+    const std::string key = path.empty() ? k : path + "." + k;
+    if (!seen.insert(k).second) throw ConfigError(source + ": " + key + ": duplicate key (only one value is allowed)");
+    out[k] = base[k] ? merged(base[k], kv.second, source, key) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+YAML::Node resolved_node(const std::string& path, int depth) {
+  YAML::Node root = detail::load_single_document(read_config_file(path, "configuration"), path);
+  if (!root.IsMap() || !root["base"]) return root;
+  if (depth >= 4) throw ConfigError(path + ": base: more than 4 levels of base configurations (a cycle?)");
+  const YAML::Node b = root["base"];
+  if (!b.IsScalar()) throw ConfigError(path + ": base: expected a file name");
+  const std::string file = b.Scalar();
+  const std::string base_path = !file.empty() && file[0] == '/' ? file : detail::folder_of(path) + file;
+  YAML::Node over = YAML::Clone(root);
+  over.remove("base");
+  return merged(resolved_node(base_path, depth + 1), over, path, "");
+}
+
+}  // namespace
+
+std::string read_config_text(const std::string& path) {
+  const std::string text = read_config_file(path, "configuration");
+  const YAML::Node root = detail::load_single_document(text, path);
+  if (!root.IsMap() || !root["base"]) return text;  // as written, comments kept
+  YAML::Emitter out;
+  out << YAML::Comment("merged from " + path + " and its base configuration") << resolved_node(path, 0);
+  if (!out.good()) throw ConfigError(path + ": cannot write the merged configuration: " + out.GetLastError());
+  return std::string(out.c_str()) + "\n";
+}
+
+Config load_config(const std::string& path) { return load_config_from_string(read_config_text(path), path); }
 
 }  // namespace tmpc

@@ -1,6 +1,8 @@
 // Euler-Lagrange dynamics of the tiltrotor from its kinematic tree (thesis 5.1).
 #include "tmpc/model/dynamics.hpp"
 
+#include <Eigen/Cholesky>
+
 #include <array>
 
 #include "tmpc/model/dual.hpp"
@@ -136,6 +138,36 @@ Eigen::Matrix<T, kNx, 1> TiltrotorModel::state_derivative_t(const T* x, const T*
 }
 
 Mat10 TiltrotorModel::mass_matrix(const Vec10& q) const { return mass_matrix_t<double>(q.data()); }
+
+Vec10 TiltrotorModel::body_force(const Vec10& q, const Eigen::Vector3d& F) const {
+  const TreePose<double> pose = tree_.pose(q.data());
+  const TreeBody& b = tree_.bodies()[KinematicTree::kBody];
+  const auto f = static_cast<std::size_t>(b.frame);
+  const Vec3<double> com = pose.p[f] + pose.R[f] * b.com;
+  Jac<double> jv, jw;
+  tree_.jacobian(pose, b.frame, com, jv, jw);
+  return jv.transpose() * F;
+}
+
+State20 TiltrotorModel::state_derivative(const State20& x, const Eigen::Vector4d& u, const Eigen::Vector3d& d_load,
+                                         const Eigen::Vector3d& f_body) const {
+  if (f_body.isZero(0.0)) return state_derivative(x, u, d_load);
+  // M q'' = ... + L_ab d + Jv_body' F: solved with the body force moved into q''.
+  const Vec10 q = x.head<kNq>();
+  const Vec10 extra = mass_matrix(q).llt().solve(body_force(q, f_body));
+  State20 xd = state_derivative(x, u, d_load);
+  xd.tail<kNq>() += extra;
+  return xd;
+}
+
+State20 rk4_step(const TiltrotorModel& model, const State20& x, const Eigen::Vector4d& u, const Eigen::Vector3d& d_load,
+                 const Eigen::Vector3d& f_body, double h) {
+  const State20 k1 = model.state_derivative(x, u, d_load, f_body);
+  const State20 k2 = model.state_derivative(x + 0.5 * h * k1, u, d_load, f_body);
+  const State20 k3 = model.state_derivative(x + 0.5 * h * k2, u, d_load, f_body);
+  const State20 k4 = model.state_derivative(x + h * k3, u, d_load, f_body);
+  return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+}
 
 Vec10 TiltrotorModel::gravity_vector(const Vec10& q) const {
   const Vec10 zero = Vec10::Zero();

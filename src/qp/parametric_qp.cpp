@@ -1,5 +1,7 @@
 #include "tmpc/qp/parametric_qp.hpp"
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -44,6 +46,58 @@ ParametricQp ParametricQp::from_mpc(const MpcQpData& d) {
     p.lo0.segment(nz + i * d.n, d.n) = d.x_bar.lo;
     p.hi0.segment(nz + i * d.n, d.n) = d.x_bar.hi;
   }
+  return d.soft() ? soften(p, d.N, d.n, d.soft_penalty) : p;
+}
+
+ParametricQp ParametricQp::soften(const ParametricQp& hard, int N, int n, double penalty) {
+  if (!(penalty > 0.0 && std::isfinite(penalty))) {
+    throw std::invalid_argument("ParametricQp::soften: the penalty must be positive and finite, got " + std::to_string(penalty));
+  }
+  if (hard.slacks != 0 || N < 1 || n < 1 || hard.nc() < N * n) {
+    throw std::invalid_argument("ParametricQp::soften: needs a hard QP whose last N n rows are the state constraints");
+  }
+  const int nu = hard.nz(), nin = hard.nc() - N * n, ns = n, rows = N * n;
+  const double inf = std::numeric_limits<double>::infinity();
+  ParametricQp p;
+  p.slacks = ns;
+  const int nz = nu + ns, nc = nin + 2 * rows + ns;
+  p.H = Eigen::MatrixXd::Zero(nz, nz);
+  p.H.topLeftCorner(nu, nu) = hard.H;
+  p.H.bottomRightCorner(ns, ns).diagonal().setConstant(1e-8 * hard.H.diagonal().maxCoeff());
+  p.F = Eigen::MatrixXd::Zero(nz, hard.nx());
+  p.F.topRows(nu) = hard.F;
+  p.f0 = Eigen::VectorXd::Zero(nz);
+  p.f0.head(nu) = hard.f0;
+  p.f0.tail(ns).setConstant(penalty);
+  p.A = Eigen::MatrixXd::Zero(nc, nz);
+  p.E = Eigen::MatrixXd::Zero(nc, hard.nx());
+  p.lo0.resize(nc);
+  p.hi0.resize(nc);
+  // Inputs, unchanged.
+  p.A.topLeftCorner(nin, nu) = hard.A.topRows(nin);
+  p.E.topRows(nin) = hard.E.topRows(nin);
+  p.lo0.head(nin) = hard.lo0.head(nin);
+  p.hi0.head(nin) = hard.hi0.head(nin);
+  // x - s <= hi (upper rows), x + s >= lo (lower rows); stage k, state i uses s_i.
+  const Eigen::MatrixXd Ax = hard.A.bottomRows(rows), Ex = hard.E.bottomRows(rows);
+  p.A.block(nin, 0, rows, nu) = Ax;
+  p.A.block(nin + rows, 0, rows, nu) = Ax;
+  p.E.middleRows(nin, rows) = Ex;
+  p.E.middleRows(nin + rows, rows) = Ex;
+  for (int k = 0; k < N; ++k) {
+    for (int i = 0; i < n; ++i) {
+      p.A(nin + k * n + i, nu + i) = -1.0;
+      p.A(nin + rows + k * n + i, nu + i) = 1.0;
+    }
+  }
+  p.lo0.segment(nin, rows).setConstant(-inf);
+  p.hi0.segment(nin, rows) = hard.hi0.tail(rows);
+  p.lo0.segment(nin + rows, rows) = hard.lo0.tail(rows);
+  p.hi0.segment(nin + rows, rows).setConstant(inf);
+  // s >= 0.
+  p.A.bottomRightCorner(ns, ns).setIdentity();
+  p.lo0.tail(ns).setZero();
+  p.hi0.tail(ns).setConstant(inf);
   return p;
 }
 

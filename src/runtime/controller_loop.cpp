@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
-#include "tmpc/explicit/explicit_solver.hpp"
-#include "tmpc/model/config.hpp"
-#include "tmpc/model/reference.hpp"
+#include "tmpc/runtime/controller_solver.hpp"
+#include "tmpc/runtime/reference_source.hpp"
 #include "tmpc/runtime/state_gate.hpp"
 #include "tmpc/runtime/telemetry.hpp"
 #include "tmpc/runtime/tracking_error.hpp"
@@ -30,18 +30,22 @@ double percentile(std::vector<double>& v, double p) {
 ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transport& link,
                                         const ControllerLoopOptions& o, const std::atomic<bool>& stop,
                                         const ControllerLoopSeams& seams) {
-  // Everything that allocates happens here, before the loop.
-  const Config cfg = load_config_from_string(a.config_text, "artifact");
-  const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
+  // Everything that allocates happens here, before the loop; everything comes from the
+  // artifact's records (no YAML).
+  if (!o.trajectory) throw std::invalid_argument("controller loop: no trajectory to fly");
+  if (!(o.time_scale >= 1.0 && o.time_scale <= 1000.0)) {
+    throw std::invalid_argument("controller loop: time_scale must be in [1, 1000], got " + std::to_string(o.time_scale));
+  }
   const double T = a.sample_time;
+  const double T_wall = T * o.time_scale;  // the period on the wall clock
+  const int p = a.measured, m = a.m;
   SolverOptions so;
-  so.eps_abs = so.eps_rel = cfg.solver.admm_epsilon;
-  so.eta = cfg.solver.admm_eta;
+  so.eps_abs = so.eps_rel = a.solver.admm_epsilon;
+  so.eta = a.solver.admm_eta;
   // A solve never outlives its period's deadline: past it the answer is useless, and
   // still running it would make the next period busy (the fallback twice).
-  so.time_budget_us = o.deadline_fraction * T * 1e6;
-  const TubeControllerOptions law = tube_law_options(cfg, o.tube_law);
+  so.time_budget_us = o.deadline_fraction * T_wall * 1e6;
+  const TubeControllerOptions law = tube_law_options(a, o.tube_law);
   TubeController ctrl(a, nullptr, law);
   std::unique_ptr<AsyncOptimizer> own_optimizer;
   Optimizer* optimizer = seams.optimizer;
@@ -50,26 +54,30 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
         make_controller_solver(o.solver, a, so, o.explicit_law, law.offset_free), ctrl.parameters());
     optimizer = own_optimizer.get();
   }
-  // The measured states (q, q'), their kinds and the gates.
-  constexpr int p = kNx;
-  const std::vector<StateKind> all_kinds = tiltrotor_state_kinds();
-  const std::vector<StateKind> kinds(all_kinds.begin(), all_kinds.begin() + p);
+  std::unique_ptr<ReferenceSource> reference = make_reference_source(a, o.trajectory);
+  // The measured states, their kinds and the gates.
+  const std::vector<StateKind> kinds = a.measured_kinds();
   const Eigen::VectorXd half = a.N_x.head(p).cwiseInverse();
   StateGate gate(a.A.topLeftCorner(p, p), a.B.topRows(p), a.N_x.head(p), a.N_u, kinds,
-                 state_gate_settings(cfg.link, kinds, half, T));
-  io::Decoder decoder(state_decoder_settings(cfg.link, kinds));
-  const int watchdog = o.silent_periods > 0 ? o.silent_periods : cfg.link.watchdog_periods;
-  TrackingError err;
+                 state_gate_settings(a.link, kinds, half, T));
+  io::Decoder decoder(state_decoder_settings(a.link, kinds));
+  const int watchdog = o.silent_periods > 0 ? o.silent_periods : a.link.watchdog_periods;
+  TrackingError err(kinds, a.integrated);
   std::unique_ptr<TelemetryWriter> telemetry;
-  if (!o.telemetry_csv.empty()) telemetry = std::make_unique<TelemetryWriter>(o.telemetry_csv);
+  if (!o.telemetry_csv.empty()) {
+    telemetry = std::make_unique<TelemetryWriter>(
+        o.telemetry_csv, TelemetryLayout{a.state_names, a.input_names, p, std::min(3, static_cast<int>(a.D.cols()))});
+  }
   std::vector<std::uint8_t> out;
-  out.reserve(128);
+  out.reserve(256);
   std::uint8_t buf[1024];
   const long max_periods = o.duration_s > 0.0 ? static_cast<long>(o.duration_s / T + 0.5) : -1;
   std::vector<double> latency, solve;
   latency.reserve(max_periods > 0 ? static_cast<std::size_t>(max_periods) : 1u << 20);
   solve.reserve(latency.capacity());
-  Eigen::VectorXd e_meas = Eigen::VectorXd::Zero(p), u_tilde = Eigen::VectorXd::Zero(a.m);
+  Eigen::VectorXd e_meas = Eigen::VectorXd::Zero(p), u_tilde = Eigen::VectorXd::Zero(m);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(p), x_cand = x, x_r_last = x, x_r_cand = x;
+  Eigen::VectorXd u_r = Eigen::VectorXd::Zero(m), u_r_cand = u_r;
   ControllerLoopStats st;
   st.watchdog_periods = watchdog;
   st.session = o.session != 0 ? o.session : io::draw_session_id();
@@ -77,23 +85,22 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   std::unique_ptr<PeriodicClock> own_clock;
   LoopClock* clock = seams.clock;
   if (clock == nullptr) {
-    own_clock = std::make_unique<PeriodicClock>(T);
+    own_clock = std::make_unique<PeriodicClock>(T_wall);
     clock = own_clock.get();
   }
   io::StateFrame last{}, cand{};
-  ReferencePoint r_last, r_cand;
   bool have_state = false;
   long silent = 0;
   std::uint32_t seq = 0;
   TelemetryRecord rec;
-  Eigen::Vector4d u_safe = a.u_eq, u_r_sent = a.u_eq;
+  Eigen::VectorXd u_safe = reference->hover_input(), u_r_sent = u_safe;
   bool controlled_last = false;   // the previous period sent the law's input for a fresh state
   double last_state_time = -1.0;  // plant time of the state that input was computed from
   while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock->skipped() < max_periods)) {
     const double lat = clock->wait();
     latency.push_back(lat);  // within the reserved capacity
     if (clock->last_period_us() > 0.0) {
-      st.period_jitter_max_us = std::max(st.period_jitter_max_us, std::abs(clock->last_period_us() - T * 1e6));
+      st.period_jitter_max_us = std::max(st.period_jitter_max_us, std::abs(clock->last_period_us() - T_wall * 1e6));
     }
     // The newest frame the decoder accepts this period; a new session or a re-anchored
     // sequence starts a new track in the gate.
@@ -112,17 +119,20 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
     bool fresh = false, restart = false;
     if (got) {
       if (new_track) gate.reset();
-      r_cand = traj.at(cand.time);
-      State20 x;
-      for (int i = 0; i < p; ++i) x(i) = cand.x[static_cast<std::size_t>(i)];
-      TrackingError::measured(x, r_cand, e_meas);
-      const StateGate::Verdict v = gate.check(cand.time, cand.seq, e_meas, u_tilde);
-      if (StateGate::accepted(v)) {
-        fresh = true;
-        restart = v != StateGate::Verdict::Accepted;  // a new track: the law starts from it
-        last = cand;
-        r_last = r_cand;
-        st.peer_session = decoder.session();
+      for (int i = 0; i < p; ++i) x_cand(i) = cand.x[static_cast<std::size_t>(i)];
+      // No trim at that time: the frame cannot be judged, it is treated as missing.
+      if (reference->at(cand.time, x_r_cand, u_r_cand)) {
+        err.measured(x_cand, x_r_cand, e_meas);
+        const StateGate::Verdict v = gate.check(cand.time, cand.seq, e_meas, u_tilde);
+        if (StateGate::accepted(v)) {
+          fresh = true;
+          restart = v != StateGate::Verdict::Accepted;  // a new track: the law starts from it
+          last = cand;
+          x = x_cand;
+          x_r_last = x_r_cand;
+          u_r = u_r_cand;
+          st.peer_session = decoder.session();
+        }
       }
     }
     silent = fresh ? 0 : silent + 1;
@@ -131,17 +141,16 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
     io::ControlFrame cf;
     cf.session = st.session;
     cf.seq = ++seq;
-    cf.n = static_cast<std::uint8_t>(a.m);
+    cf.n = static_cast<std::uint8_t>(m);
     rec = TelemetryRecord{};
     rec.period = static_cast<std::uint64_t>(st.periods);
     rec.t = clock->elapsed_s();
     rec.wake_latency_us = lat;
     rec.period_us = clock->last_period_us();
     if (!have_state || silent > watchdog) {
-      // Safe command: the last feedforward with zero servo torques (hover before any state).
-      cf.u[0] = u_safe(0);
-      cf.u[1] = u_safe(1);
-      cf.u[2] = cf.u[3] = 0.0;
+      // Safe command: the last feedforward with zero servo torques (hover before any
+      // state); a linear model's: zero.
+      for (int i = 0; i < m; ++i) cf.u[static_cast<std::size_t>(i)] = a.model == ModelKind::Tiltrotor && i >= 2 ? 0.0 : u_safe(i);
       cf.flags = io::ControlFrame::kSafe;
       ++st.safe_periods;
       rec.safe_command = 1;
@@ -149,19 +158,15 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       u_r_sent = u_safe;
     } else {
       ++st.states;
-      const ReferencePoint& r = r_last;
-      const Eigen::Vector4d u_r = feedforward(model, r);
       u_safe = u_r;
-      State20 x;
-      for (int i = 0; i < p; ++i) x(i) = last.x[static_cast<std::size_t>(i)];
       if (restart) {
         err.reset();
-        ctrl.reset(err.update(x, r));
+        ctrl.reset(err.update(x, x_r_last));
         controlled_last = false;
         ++st.restarts;
         rec.restart = 1;
       }
-      const Eigen::VectorXd& xt = err.update(x, r);
+      const Eigen::VectorXd& xt = err.update(x, x_r_last);
       // The observer uses a residual only across one period of the law's own input,
       // and only when the plant moved by one period since that state (a stall of either
       // side makes the residual span several periods under inputs it did not see).
@@ -170,7 +175,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       controlled_last = fresh;
       last_state_time = last.time;
       const std::int64_t deadline =
-          clock->next_wakeup_ns() + static_cast<std::int64_t>(o.deadline_fraction * T * 1e9);
+          clock->next_wakeup_ns() + static_cast<std::int64_t>(o.deadline_fraction * T_wall * 1e9);
       const SolveResult* res = nullptr;
       if (ticket != 0) {
         // Poll until the result is there or the deadline passes; send at once.
@@ -195,16 +200,19 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       }
       st.fallback_periods += s.fallback;
       st.clipped_periods += s.clipped;
-      for (int i = 0; i < 4; ++i) cf.u[static_cast<std::size_t>(i)] = s.u(i);
+      st.softened_periods += s.softened;
+      rec.softened = s.softened;
+      rec.slack_max = s.slack_max;
+      for (int i = 0; i < m; ++i) cf.u[static_cast<std::size_t>(i)] = s.u(i);
       cf.flags = static_cast<std::uint8_t>((s.fallback ? io::ControlFrame::kFallback : 0) |
                                            (s.clipped ? io::ControlFrame::kClipped : 0));
       u_r_sent = u_r;
-      for (int i = 0; i < 24; ++i) {
+      for (int i = 0; i < a.n; ++i) {
         rec.x[i] = xt(i);
         rec.x_bar[i] = s.x_bar(i);
       }
-      for (int i = 0; i < 10; ++i) rec.ref[i] = r.q(i);
-      for (int i = 0; i < 4; ++i) {
+      for (int i = 0; i < p; ++i) rec.ref[i] = x_r_last(i);
+      for (int i = 0; i < m; ++i) {
         rec.u_bar[i] = s.u_bar(i);
         rec.u[i] = s.u(i);
       }
@@ -214,11 +222,11 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       rec.fallback = s.fallback;
       rec.clipped = s.clipped;
       rec.in_tube = s.in_tube;
-      for (int i = 0; i < 3; ++i) rec.d_hat[i] = s.d_hat(i);
+      for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, s.d_hat.size()); ++i) rec.d_hat[i] = s.d_hat(i);
     }
     // The input the plant holds until the next frame, in error coordinates (the gate's
     // prediction of the next state).
-    for (int i = 0; i < a.m; ++i) u_tilde(i) = cf.u[static_cast<std::size_t>(i)] - u_r_sent(i);
+    for (int i = 0; i < m; ++i) u_tilde(i) = cf.u[static_cast<std::size_t>(i)] - u_r_sent(i);
     io::encode(cf, out);
     if (!link.write_all(out.data(), out.size(), 2)) ++st.send_failures;
     const io::LinkCounts counts = decoder.counts().plus(gate.counts());

@@ -5,21 +5,29 @@
 #include <stdexcept>
 
 #include "tmpc/io/protocol.hpp"
-#include "tmpc/model/kinematic_tree.hpp"
 
 namespace tmpc {
 
-TelemetryWriter::TelemetryWriter(const std::string& path, std::size_t capacity) : ring_(capacity) {
+TelemetryWriter::TelemetryWriter(const std::string& path, TelemetryLayout layout, std::size_t capacity)
+    : layout_(std::move(layout)), ring_(capacity) {
+  const int n = static_cast<int>(layout_.state_names.size()), m = static_cast<int>(layout_.input_names.size());
+  if (n > kMaxStates || m > kMaxInputs || layout_.measured > n || layout_.disturbances > 3) {
+    throw std::invalid_argument("telemetry: " + std::to_string(n) + " states and " + std::to_string(m) +
+                                " inputs exceed a record");
+  }
   f_ = std::fopen(path.c_str(), "w");
   if (f_ == nullptr) throw std::runtime_error(path + ": cannot open the telemetry file for writing");
   std::fprintf(f_, "period,t");
-  for (int i = 0; i < 24; ++i) std::fprintf(f_, ",x%d", i);
-  for (const char* n : kCoordNames) std::fprintf(f_, ",r_%s", n);
-  for (int i = 0; i < 24; ++i) std::fprintf(f_, ",xbar%d", i);
-  std::fprintf(f_, ",ubar_f_r,ubar_f_l,ubar_tau_r,ubar_tau_l,u_f_r,u_f_l,u_tau_r,u_tau_l,status,iterations,solve_us,"
-                   "wake_latency_us,period_us,fallback,clipped,in_tube,safe_command,dhat_x,dhat_y,dhat_z");
+  for (const std::string& s : layout_.state_names) std::fprintf(f_, ",e_%s", s.c_str());
+  for (int i = 0; i < layout_.measured; ++i) std::fprintf(f_, ",r_%s", layout_.state_names[static_cast<std::size_t>(i)].c_str());
+  for (const std::string& s : layout_.state_names) std::fprintf(f_, ",xbar_%s", s.c_str());
+  for (const std::string& s : layout_.input_names) std::fprintf(f_, ",ubar_%s", s.c_str());
+  for (const std::string& s : layout_.input_names) std::fprintf(f_, ",u_%s", s.c_str());
+  std::fprintf(f_, ",status,iterations,solve_us,wake_latency_us,period_us,fallback,clipped,in_tube,safe_command");
+  static const char* const dn[3] = {"dhat_x", "dhat_y", "dhat_z"};
+  for (int i = 0; i < layout_.disturbances; ++i) std::fprintf(f_, ",%s", dn[i]);
   for (std::size_t i = 0; i < io::kRejectReasons; ++i) std::fprintf(f_, ",rejected_%s", io::to_string(static_cast<io::Reject>(i)));
-  std::fprintf(f_, ",peer_session,restart\n");
+  std::fprintf(f_, ",peer_session,restart,softened,slack_max\n");
   thread_ = std::thread([this] { run(); });
 }
 
@@ -38,17 +46,18 @@ bool TelemetryWriter::push(const TelemetryRecord& r) {
 }
 
 void TelemetryWriter::write(const TelemetryRecord& r) {
+  const int n = static_cast<int>(layout_.state_names.size()), m = static_cast<int>(layout_.input_names.size());
   std::fprintf(f_, "%llu,%.6f", static_cast<unsigned long long>(r.period), r.t);
-  for (double v : r.x) std::fprintf(f_, ",%.9g", v);
-  for (double v : r.ref) std::fprintf(f_, ",%.9g", v);
-  for (double v : r.x_bar) std::fprintf(f_, ",%.9g", v);
-  for (double v : r.u_bar) std::fprintf(f_, ",%.9g", v);
-  for (double v : r.u) std::fprintf(f_, ",%.9g", v);
-  std::fprintf(f_, ",%d,%d,%.3f,%.3f,%.3f,%u,%u,%u,%u,%.6g,%.6g,%.6g", r.status, r.iterations, r.solve_us,
-               r.wake_latency_us, r.period_us, r.fallback, r.clipped, r.in_tube, r.safe_command, r.d_hat[0], r.d_hat[1],
-               r.d_hat[2]);
+  for (int i = 0; i < n; ++i) std::fprintf(f_, ",%.9g", r.x[i]);
+  for (int i = 0; i < layout_.measured; ++i) std::fprintf(f_, ",%.9g", r.ref[i]);
+  for (int i = 0; i < n; ++i) std::fprintf(f_, ",%.9g", r.x_bar[i]);
+  for (int i = 0; i < m; ++i) std::fprintf(f_, ",%.9g", r.u_bar[i]);
+  for (int i = 0; i < m; ++i) std::fprintf(f_, ",%.9g", r.u[i]);
+  std::fprintf(f_, ",%d,%d,%.3f,%.3f,%.3f,%u,%u,%u,%u", r.status, r.iterations, r.solve_us, r.wake_latency_us,
+               r.period_us, r.fallback, r.clipped, r.in_tube, r.safe_command);
+  for (int i = 0; i < layout_.disturbances; ++i) std::fprintf(f_, ",%.6g", r.d_hat[i]);
   for (std::int32_t c : r.link_rejects) std::fprintf(f_, ",%d", c);
-  std::fprintf(f_, ",%u,%u\n", r.peer_session, r.restart);
+  std::fprintf(f_, ",%u,%u,%u,%.6g\n", r.peer_session, r.restart, r.softened, r.slack_max);
 }
 
 void TelemetryWriter::run() {

@@ -3,32 +3,37 @@
 
 #include <cmath>
 
-#include "tmpc/model/kinematic_tree.hpp"
-
 namespace tmpc {
 
-void TrackingError::measured(const State20& x, const ReferencePoint& r, Eigen::VectorXd& e) {
-  e.head<10>() = x.head<10>() - r.q;
-  e(kPsi) = std::remainder(e(kPsi), 2.0 * M_PI);
-  e.segment<10>(10) = x.tail<10>() - r.qd;
+TrackingError::TrackingError(std::vector<StateKind> kinds, std::vector<int> integrated)
+    : kinds_(std::move(kinds)),
+      integrated_(std::move(integrated)),
+      xt_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kinds_.size() + integrated_.size()))),
+      integral_(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(integrated_.size()))) {}
+
+void TrackingError::measured(const Eigen::VectorXd& x, const Eigen::VectorXd& x_r, Eigen::VectorXd& e) const {
+  const Eigen::Index p = static_cast<Eigen::Index>(kinds_.size());
+  e.head(p) = x.head(p) - x_r.head(p);
+  for (Eigen::Index i = 0; i < p; ++i) {
+    if (kinds_[static_cast<std::size_t>(i)] == StateKind::Yaw) e(i) = std::remainder(e(i), 2.0 * M_PI);
+  }
 }
 
-const Eigen::VectorXd& TrackingError::update(const State20& x, const ReferencePoint& r) {
-  measured(x, r, xt_);
-  xt_.tail<4>() = integral_;
+const Eigen::VectorXd& TrackingError::update(const Eigen::VectorXd& x, const Eigen::VectorXd& x_r) {
+  measured(x, x_r, xt_);
+  xt_.tail(integral_.size()) = integral_;
   return xt_;
 }
 
 void TrackingError::integrate(double dt) {
-  integral_ += dt * Eigen::Vector4d(xt_(kX), xt_(kY), xt_(kZ), xt_(kPsi));
+  for (std::size_t i = 0; i < integrated_.size(); ++i) {
+    integral_(static_cast<Eigen::Index>(i)) += dt * xt_(integrated_[i]);
+  }
 }
 
-std::string error_state_name(int i) {
-  static const char* const integrals[] = {"x", "y", "z", "psi"};
-  if (i >= 0 && i < kNq) return kCoordNames[static_cast<std::size_t>(i)];
-  if (i >= kNq && i < 2 * kNq) return std::string("d_") + kCoordNames[static_cast<std::size_t>(i - kNq)];
-  if (i >= 2 * kNq && i < 2 * kNq + 4) return std::string("int_") + integrals[i - 2 * kNq];
-  return "state_" + std::to_string(i);
+void TrackingError::reset() {
+  integral_.setZero();
+  xt_.setZero();
 }
 
 }  // namespace tmpc

@@ -3,8 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "tmpc/model/config.hpp"
-#include "tmpc/model/kinematic_tree.hpp"
 
 namespace tmpc {
 
@@ -12,12 +10,26 @@ void TubeControllerOptions::validate() const {
   if (!(observer_gain > 0.0 && observer_gain <= 1.0)) {
     throw std::invalid_argument("tube controller: observer_gain must be in (0, 1], got " + std::to_string(observer_gain));
   }
+  if (observer != "residual" && observer != "kalman") {
+    throw std::invalid_argument("tube controller: observer must be residual or kalman, got '" + observer + "'");
+  }
 }
 
-TubeControllerOptions tube_law_options(const Config& cfg, const std::string& law, double observer_gain) {
+TubeControllerOptions tube_law_options(const ControllerArtifact& a, const std::string& law, double observer_gain,
+                                       const std::string& observer) {
   TubeControllerOptions o;
-  o.offset_free = cfg.tube_law.offset_free;
-  o.observer_gain = cfg.tube_law.observer_gain;
+  o.offset_free = a.tube_law.offset_free;
+  o.observer_gain = a.tube_law.observer_gain;
+  o.observer = a.estimator;
+  if (observer == "residual" || observer == "kalman") {
+    o.observer = observer;
+  } else if (!observer.empty()) {
+    throw std::invalid_argument("observer '" + observer + "' (expected residual or kalman)");
+  }
+  if (o.observer == "kalman" && a.estimator != "kalman") {
+    throw std::invalid_argument("observer kalman: the artifact has no Kalman filter (its config's estimation.observer is " +
+                                a.estimator + ")");
+  }
   if (law == "mayne") {
     o.offset_free = false;
   } else if (law == "offset-free") {
@@ -33,42 +45,60 @@ TubeControllerOptions tube_law_options(const Config& cfg, const std::string& law
 TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSolver> solver, TubeControllerOptions opt)
     : a_(a), solver_(std::move(solver)), opt_(opt) {
   opt_.validate();
-  x_bar_ = Eigen::VectorXd::Zero(a.n);
-  x_n_ = Eigen::VectorXd::Zero(a.n);
-  e_ = Eigen::VectorXd::Zero(a.n);
-  dev_ = Eigen::VectorXd::Zero(a.n);
-  next_ = Eigen::VectorXd::Zero(a.n);
-  x_s_ = Eigen::VectorXd::Zero(a.n);
-  c_hat_ = Eigen::VectorXd::Zero(a.n);
-  x_prev_ = Eigen::VectorXd::Zero(a.n);
-  resid_ = Eigen::VectorXd::Zero(a.n);
+  const int n = a.n, m = a.m, nd = static_cast<int>(a.D.cols());
+  x_bar_ = x_n_ = e_ = dev_ = next_ = x_s_ = c_hat_ = x_prev_ = resid_ = Eigen::VectorXd::Zero(n);
+  u_s_ = u_prev_n_ = u_n_ = ub_ = u_raw_ = Eigen::VectorXd::Zero(m);
+  d_hat_ = d_raw_ = Eigen::VectorXd::Zero(nd);
   z_half_ = a.Z.radius();
-  out_.x_bar = Eigen::VectorXd::Zero(a.n);
+  out_.x_bar = Eigen::VectorXd::Zero(n);
+  out_.u = out_.u_bar = Eigen::VectorXd::Zero(m);
+  out_.d_hat = Eigen::VectorXd::Zero(nd);
   if (opt_.offset_free) {
     const DisturbanceTarget t = a.disturbance_target();
     Tx_ = t.Tx;
     Tu_ = t.Tu;
-    // The load's translational accelerations (velocity rows of x, y, z) observe the
-    // force: the tilt and swing rows of D are dominated by servo and pendulum
+    // The measured velocities observe the disturbance (tiltrotor: the load's x, y, z
+    // accelerations): the tilt and swing rows of D are dominated by servo and pendulum
     // mismatch, which biased the estimate by 0.1 to 0.3 N in the helix mission.
-    D_pinv_ = disturbance_pseudo_inverse(a.D, {kNq + kX, kNq + kY, kNq + kZ});
-    theta_ = Eigen::VectorXd::Zero(2 * a.n + kNd);
+    std::vector<int> rows = a.velocity_rows();
+    if (rows.empty()) {
+      for (int i = 0; i < a.measured; ++i) rows.push_back(i);
+    }
+    D_pinv_ = disturbance_pseudo_inverse(a.D, rows);
+    theta_ = Eigen::VectorXd::Zero(2 * n + nd);
+    if (opt_.observer == "kalman") {
+      if (a.estimator != "kalman") throw std::invalid_argument("tube controller: observer kalman, but the artifact has no Kalman filter");
+      const KalmanDesign k = kalman_model(a);
+      kalman_ = true;
+      A_a_ = k.A_a;
+      B_a_ = k.B_a;
+      L_kf_ = a.estimator_L;
+      E_c_ = a.estimator_E_c;
+      rows_ = a.estimator_rows;
+      xi_ = xi_pred_ = Eigen::VectorXd::Zero(k.A_a.rows());
+      x_hat_ = Eigen::VectorXd::Zero(n);
+      innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
+    }
   } else {
-    theta_ = Eigen::VectorXd::Zero(a.n);
+    theta_ = Eigen::VectorXd::Zero(n);
   }
   if (solver_ && solver_->problem().nx() != theta_.size()) {
     throw std::invalid_argument("tube controller: the solver takes " + std::to_string(solver_->problem().nx()) +
                                 " parameters, the law gives " + std::to_string(theta_.size()) +
                                 (opt_.offset_free ? " (build it from artifact.qp(true))" : ""));
   }
-  // Absolute actuator limits from the design's own configuration.
-  const Config cfg = load_config_from_string(a.config_text, "artifact");
-  u_min_ = cfg.input_min;
-  u_max_ = cfg.input_max;
+  u_min_ = a.input_min;
+  u_max_ = a.input_max;
+  (void)m;
 }
 
 void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   x_bar_ = a_.N_x.cwiseProduct(x_tilde);
+  if (kalman_) {
+    xi_.setZero();
+    xi_.head(a_.measured) = x_bar_.head(a_.measured);
+    x_hat_ = x_bar_;
+  }
   d_hat_.setZero();
   c_hat_.setZero();
   u_s_.setZero();
@@ -77,7 +107,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   if (solver_) solver_->reset();
 }
 
-const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Eigen::Vector4d& u_r,
+const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Eigen::VectorXd& u_r,
                                         bool optimizer_in_time) {
   const Eigen::VectorXd& p = prepare(x_tilde);
   return finish(u_r, solver_ ? &solver_->solve(p) : nullptr, optimizer_in_time);
@@ -85,8 +115,36 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
 
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, bool consecutive) {
   x_n_ = a_.N_x.cwiseProduct(x_tilde);
+  if (kalman_ && x_n_.allFinite()) {
+    const int p = a_.measured, ni = a_.n - p;
+    if (have_prev_ && consecutive) {
+      // The integral states are the controller's: the model's integral rows applied to
+      // the previous estimate (the affine model, as the nominal's), not a measurement.
+      next_.noalias() = a_.A * x_hat_;
+      next_.noalias() += a_.B * u_prev_n_;
+      next_.noalias() += a_.D * d_hat_;
+      next_ += c_hat_;
+      x_hat_.tail(ni) = next_.tail(ni);
+      xi_pred_.noalias() = A_a_ * xi_;
+      xi_pred_.noalias() += B_a_ * u_prev_n_;
+    } else {
+      // A restart: the measured rows and the integrals from this state, the rest kept.
+      x_hat_.tail(ni) = x_n_.tail(ni);
+      xi_pred_ = xi_;
+      for (int r : rows_) xi_pred_(r) = x_n_(r);
+    }
+    for (std::size_t j = 0; j < rows_.size(); ++j) innov_(static_cast<Eigen::Index>(j)) = x_n_(rows_[j]) - xi_pred_(rows_[j]);
+    xi_ = xi_pred_;
+    xi_.noalias() += L_kf_ * innov_;
+    x_hat_.head(p) = xi_.head(p);
+    x_n_ = x_hat_;  // the estimate, from here on
+    d_hat_ = xi_.segment(p, d_hat_.size());
+    c_hat_.head(p).noalias() = E_c_ * xi_.tail(E_c_.cols());
+    x_s_.noalias() = Tx_ * d_hat_;
+    u_s_.noalias() = Tu_ * d_hat_;
+  }
   out_.in_state_box = a_.X.contains(x_n_);
-  if (opt_.offset_free) {
+  if (opt_.offset_free && !kalman_) {
     // Disturbance observer on the one-step residual (a non-finite state is left to the
     // solver's input check and does not reach the estimate).
     if (have_prev_ && consecutive && x_n_.allFinite()) {
@@ -113,33 +171,38 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   out_.d_hat = d_hat_;
   if (!opt_.offset_free) return x_bar_;
   theta_.head(a_.n) = x_bar_ - x_s_;
-  theta_.segment<kNd>(a_.n) = d_hat_;
+  theta_.segment(a_.n, d_hat_.size()) = d_hat_;
   theta_.tail(a_.n) = c_hat_;
   return theta_;
 }
 
-const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const SolveResult* r, bool in_time) {
+const ControlStep& TubeController::finish(const Eigen::VectorXd& u_r, const SolveResult* r, bool in_time) {
   if (r != nullptr) {
     out_.status = r->status;
     out_.iterations = r->iterations;
     out_.solve_us = r->solve_us;
   }
-  Eigen::Vector4d u_n;
+  out_.softened = r != nullptr && r->softened;
+  out_.slack_max = out_.softened && r->slack_state >= 0 ? r->slack_max / a_.N_x(r->slack_state) : 0.0;
+  out_.slack_state = out_.softened ? r->slack_state : -1;
   const bool usable = in_time && r != nullptr && r->status == SolveStatus::Converged && r->z.allFinite();
   if (usable) {
-    const Eigen::Vector4d ub = r->u0() + u_s_;  // u_s = 0 without the observer
-    u_n = ub + a_.K * e_;
-    out_.u_bar = ub.cwiseQuotient(a_.N_u);
-    next_.noalias() = a_.A * x_bar_ + a_.B * ub;  // nominal model (Mayne)
+    ub_ = r->z.head(a_.m) + u_s_;  // u_s = 0 without the observer
+    u_n_ = ub_;
+    u_n_.noalias() += a_.K * e_;
+    out_.u_bar = ub_.cwiseQuotient(a_.N_u);
+    next_.noalias() = a_.A * x_bar_;
+    next_.noalias() += a_.B * ub_;  // nominal model (Mayne)
     out_.fallback = false;
   } else {
     // LQR fallback on the measured error (around the disturbance's steady state when
     // offset-free); the nominal state restarts from it.
     resid_ = x_n_ - x_s_;
-    u_n = u_s_;
-    u_n.noalias() += a_.K_lqr * resid_;
+    u_n_ = u_s_;
+    u_n_.noalias() += a_.K_lqr * resid_;
     out_.u_bar.setZero();
-    next_.noalias() = a_.A * x_n_ + a_.B * u_n;
+    next_.noalias() = a_.A * x_n_;
+    next_.noalias() += a_.B * u_n_;
     out_.fallback = true;
     ++fallbacks_;
   }
@@ -148,9 +211,9 @@ const ControlStep& TubeController::finish(const Eigen::Vector4d& u_r, const Solv
     next_ += c_hat_;
   }
   x_bar_ = next_;
-  const Eigen::Vector4d u = u_r + u_n.cwiseQuotient(a_.N_u);
-  out_.u = u.cwiseMax(u_min_).cwiseMin(u_max_);
-  out_.clipped = (out_.u - u).cwiseAbs().maxCoeff() > 0.0;
+  u_raw_ = u_r + u_n_.cwiseQuotient(a_.N_u);
+  out_.u = u_raw_.cwiseMax(u_min_).cwiseMin(u_max_);
+  out_.clipped = (out_.u - u_raw_).cwiseAbs().maxCoeff() > 0.0;
   clipped_ += out_.clipped;
   // The input the plant gets, in normalized error coordinates, for the observer.
   u_prev_n_ = (out_.u - u_r).cwiseProduct(a_.N_u);

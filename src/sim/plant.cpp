@@ -1,21 +1,17 @@
-// Plant factory: the plant named by config or command line, with the disturbance
-// schedule and the Monte Carlo mass/inertia scaling of a run.
+// Plant factory: the tiltrotor plant named by the scenario or the command line.
 #include <stdexcept>
 
 #include "tmpc/sim/el_plant.hpp"
 #include "tmpc/sim/mujoco_plant.hpp"
-#include "tmpc/sim/perturbation.hpp"
 
 namespace tmpc {
 
-std::unique_ptr<Plant> make_plant(const std::string& kind, const Config& cfg, bool with_disturbance, int run) {
-  VehicleParams params = cfg.vehicle;
-  if (run >= 0) params = apply_mass_scaling(params, draw_mass_scaling(cfg.perturbation, run));
-  DisturbanceSchedule schedule(with_disturbance ? cfg.disturbances : std::vector<DisturbanceStep>{});
-  if (kind == "el") return std::make_unique<ElPlant>(params, std::move(schedule), cfg.simulation.substep);
+std::unique_ptr<Plant> make_tiltrotor_plant(const std::string& kind, const VehicleParams& p, DisturbanceProfile d,
+                                            double substep) {
+  if (kind == "el") return std::make_unique<ElPlant>(p, std::move(d), substep);
   if (kind == "mujoco") {
 #ifdef TMPC_HAVE_MUJOCO
-    return std::make_unique<MujocoPlant>(params, std::move(schedule), cfg.simulation.substep);
+    return std::make_unique<MujocoPlant>(p, std::move(d), substep);
 #else
     throw std::invalid_argument("plant 'mujoco': this build has no MuJoCo (install libmujoco-dev and rebuild with "
                                 "TMPC_WITH_MUJOCO=AUTO or ON)");

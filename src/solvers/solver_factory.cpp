@@ -141,6 +141,10 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
     const auto it = registry().find(name);
     if (it != registry().end()) registered = it->second.make;
   }
+  if (d.soft() && name != "admm" && name != "reference") {
+    throw std::invalid_argument("solver '" + name +
+                                "' does not solve the softened QP (soft state constraints); admm and reference do");
+  }
   if (registered != nullptr) return registered(d, options);
   const ParametricQp qp = ParametricQp::from_mpc(d);
   if (name == "admm") return std::make_unique<detail::AdmmPolytope>(qp, d.M, d.m, d.N, d.n, options);

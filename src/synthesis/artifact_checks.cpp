@@ -10,6 +10,7 @@
 
 #include "tmpc/model/equilibrium.hpp"
 #include "tmpc/model/error_model.hpp"
+#include "tmpc/model/state_layout.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/lqr.hpp"
 
@@ -80,16 +81,53 @@ class Checker {
 
 void check_artifact(const ControllerArtifact& a, const std::string& source) {
   const Checker c(source);
-  // Dimensions this build's runtime supports, and every record consistent with them.
-  if (a.n != kNa) c.fail("n", "is " + std::to_string(a.n) + ": this build's tiltrotor runtime flies " + std::to_string(kNa) + " error states");
-  if (a.m != kNu) c.fail("m", "is " + std::to_string(a.m) + ": this build's tiltrotor runtime has " + std::to_string(kNu) + " inputs");
-  if (a.D.cols() != kNd) c.fail("D", "has " + std::to_string(a.D.cols()) + " columns, the load force has " + std::to_string(kNd));
+  // Dimensions the runtime supports, and every record consistent with them.
+  const bool tilt = a.model == ModelKind::Tiltrotor;
+  if (a.n < 1 || a.n > kMaxStates) c.fail("n", "is " + std::to_string(a.n) + ", must be in [1, " + std::to_string(kMaxStates) + "]");
+  if (a.m < 1 || a.m > kMaxInputs) c.fail("m", "is " + std::to_string(a.m) + ", must be in [1, " + std::to_string(kMaxInputs) + "]");
+  if (tilt && (a.n != kNa || a.m != kNu || a.measured != kNx)) {
+    c.fail("n", "is " + std::to_string(a.n) + " with " + std::to_string(a.measured) + " measured states and " +
+                    std::to_string(a.m) + " inputs: the tiltrotor has " + std::to_string(kNa) + ", " +
+                    std::to_string(kNx) + " and " + std::to_string(kNu));
+  }
+  if (tilt && a.D.cols() != kNd) c.fail("D", "has " + std::to_string(a.D.cols()) + " columns, the load force has " + std::to_string(kNd));
+  if (static_cast<int>(a.kinds.size()) != a.n) c.fail("state_kinds", "has " + std::to_string(a.kinds.size()) + " entries for " + std::to_string(a.n) + " states");
+  for (int i = 0; i < a.n; ++i) {
+    const bool integral = a.kinds[static_cast<std::size_t>(i)] == StateKind::Integral;
+    if (integral != (i >= a.measured)) {
+      c.fail("state_kinds", "state " + std::to_string(i) + " (" + a.state_names[static_cast<std::size_t>(i)] + ") is " +
+                                to_string(a.kinds[static_cast<std::size_t>(i)]) + ": integral states come after the " +
+                                std::to_string(a.measured) + " measured ones, and only there");
+    }
+  }
+  if (tilt && a.kinds != tiltrotor_state_kinds()) c.fail("state_kinds", "are not the tiltrotor's");
   if (a.N < 1 || a.N > kMaxHorizon) c.fail("N", "is " + std::to_string(a.N) + ", must be in [1, " + std::to_string(kMaxHorizon) + "]");
   if (a.M < 1 || a.M > a.N) c.fail("M", "is " + std::to_string(a.M) + ", must be in [1, N = " + std::to_string(a.N) + "]");
   if (!(a.sample_time >= 1e-5 && a.sample_time <= 1.0)) c.fail("sample_time", "is " + Checker::num(a.sample_time) + " s, must be in [1e-5, 1] s");
+  if (!(a.substep > 0.0 && a.substep <= a.sample_time)) c.fail("substep", "is " + Checker::num(a.substep) + " s, must be in (0, sample_time]");
   if (a.A_vertices.size() > 64) c.fail("vertices", "is " + std::to_string(a.A_vertices.size()) + ", at most 64");
   c.positive("N_x", a.N_x);
   c.positive("N_u", a.N_u);
+  // Limits: the feedforward range inside the actuator limits (room left for feedback).
+  for (int i = 0; i < a.m; ++i) {
+    if (!(a.input_max(i) > a.input_min(i))) c.fail("input_max", "entry " + std::to_string(i) + " is not above input_min");
+    if (a.feedforward_min(i) > a.feedforward_max(i) || a.feedforward_min(i) < a.input_min(i) ||
+        a.feedforward_max(i) > a.input_max(i)) {
+      c.fail("feedforward_min", "entry " + std::to_string(i) + " [" + Checker::num(a.feedforward_min(i)) + ", " +
+                                    Checker::num(a.feedforward_max(i)) + "] leaves the input limits [" +
+                                    Checker::num(a.input_min(i)) + ", " + Checker::num(a.input_max(i)) + "]");
+    }
+  }
+  if (tilt) {
+    for (int i = 0; i < 3; ++i) {
+      if (!(a.envelope.acceleration_max(i) >= a.envelope.acceleration_min(i))) c.fail("envelope_acceleration_max", "below the minimum on axis " + std::to_string(i));
+    }
+    if (!(a.envelope.speed_max >= 0.0) || !(a.envelope.yaw_tolerance >= 0.0)) c.fail("envelope_numbers", "negative speed or yaw tolerance");
+  }
+  if (!(a.solver.admm_epsilon > 0.0 && a.solver.admm_epsilon <= 1.0)) c.fail("solver", "epsilon " + Checker::num(a.solver.admm_epsilon) + " not in (0, 1]");
+  if (!(a.solver.admm_eta > 0.0 && a.solver.admm_eta < 1.0)) c.fail("solver", "eta " + Checker::num(a.solver.admm_eta) + " not in (0, 1)");
+  if (!(a.tube_law.observer_gain > 0.0 && a.tube_law.observer_gain <= 1.0)) c.fail("tube_law_observer_gain", "is " + Checker::num(a.tube_law.observer_gain) + ", must be in (0, 1]");
+  if (!(a.link.plant_hold_s >= 0.0) || !(a.link.time_tolerance > 0.0) || !(a.link.bound_time > 0.0)) c.fail("link_numbers", "a hold time, tolerance or bound is not positive");
   // Sets: non-empty, the tightened ones inside theirs, the tube and W of the right size.
   c.box("X", a.X);
   c.box("U", a.U);
@@ -113,6 +151,36 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
     c.stabilizing("K", a.A_vertices[i], a.B, a.K, "LPV vertex " + std::to_string(i));
   }
   c.stabilizing("K_lqr", a.A, a.B, a.K_lqr, "nominal model (LQR fallback)");
+  if (a.tube_law.offset_free) {
+    try {
+      a.disturbance_target();
+    } catch (const std::exception& e) {
+      c.fail("tube_law_offset_free", std::string("the offset-free law needs a steady state of every disturbance: ") + e.what());
+    }
+  }
+  // State estimation: a filter whose error converges, and the soft constraints' penalty.
+  if (a.estimator == "kalman") {
+    if (!a.tube_law.offset_free) c.fail("estimator", "kalman estimates the offset-free law's disturbance: tube_law_offset_free must be 1");
+    const Eigen::Index na = a.measured + a.D.cols() + a.estimator_E_c.cols();
+    if (a.estimator_E_c.rows() != a.measured || a.estimator_L.rows() != na ||
+        a.estimator_L.cols() != static_cast<Eigen::Index>(a.estimator_rows.size())) {
+      c.fail("estimator_L", "is " + std::to_string(a.estimator_L.rows()) + "x" + std::to_string(a.estimator_L.cols()) +
+                                ", expected " + std::to_string(na) + "x" + std::to_string(a.estimator_rows.size()));
+    }
+    for (std::size_t i = 0; i < a.estimator_rows.size(); ++i) {
+      if ((i > 0 && a.estimator_rows[i] <= a.estimator_rows[i - 1]) || a.estimator_rows[i] >= a.measured) {
+        c.fail("estimator_rows", "are not increasing indices of measured states");
+      }
+    }
+    const double rho = spectral_radius(estimation_error_map(a));
+    if (!(rho < 1.0)) c.fail("estimator_L", "the estimation error does not converge (spectral radius of (I - L C) A_a = " + Checker::num(rho) + ")");
+  }
+  if (!(a.noise_margin >= 0.0) || !std::isfinite(a.noise_margin)) c.fail("noise_margin", "is " + Checker::num(a.noise_margin));
+  if (!(a.estimation_error_radius.array() >= 0.0).all()) c.fail("estimation_error_radius", "has a negative half-width");
+  if (!(a.soft_penalty >= 0.0) || !std::isfinite(a.soft_penalty)) c.fail("soft_penalty", "is " + Checker::num(a.soft_penalty) + ", must be >= 0");
+  if (a.soft_constraints && !(a.soft_penalty > 0.0)) {
+    c.fail("soft_penalty", "is 0 with soft constraints on: calibrate it (tmpc design runs calibrate_soft_penalty) or configure soft_constraints.penalty");
+  }
   // The embedded configuration: valid, and the records are the design it describes.
   Config cfg;
   try {
@@ -120,22 +188,61 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   } catch (const ConfigError& e) {
     c.fail("config", std::string("the embedded configuration is invalid: ") + e.what());
   }
+  if (cfg.model != a.model) c.fail("model", "differs from the embedded configuration's model");
+  if (cfg.states() != a.n || cfg.inputs() != a.m || cfg.measured() != a.measured || cfg.integrated() != a.integrated) {
+    c.fail("n", "the embedded configuration has " + std::to_string(cfg.states()) + " states (" + std::to_string(cfg.measured()) +
+                    " measured) and " + std::to_string(cfg.inputs()) + " inputs");
+  }
+  if (cfg.state_names() != a.state_names) c.fail("state_names", "differ from the embedded configuration's");
   c.near("sample_time", a.sample_time, cfg.sample_time, 1e-12, "sample_time");
+  c.near("substep", a.substep, cfg.simulation.substep, 1e-12, "simulation.substep");
   if (a.N != cfg.synthesis.horizon) c.fail("N", "is " + std::to_string(a.N) + ", the embedded configuration's synthesis.horizon is " + std::to_string(cfg.synthesis.horizon));
   if (a.M != cfg.synthesis.control_horizon) c.fail("M", "is " + std::to_string(a.M) + ", the embedded configuration's synthesis.control_horizon is " + std::to_string(cfg.synthesis.control_horizon));
   if (a.tube_gain != cfg.synthesis.tube_gain) c.fail("tube_gain", "is '" + a.tube_gain + "', the embedded configuration's synthesis.tube_gain is '" + cfg.synthesis.tube_gain + "'");
   if (a.rpi_variant != cfg.synthesis.rpi_variant) c.fail("rpi_variant", "is '" + a.rpi_variant + "', the embedded configuration's synthesis.rpi.variant is '" + cfg.synthesis.rpi_variant + "'");
   if (a.terminal_cost != cfg.synthesis.terminal_cost) c.fail("terminal_cost", "is '" + a.terminal_cost + "', the embedded configuration's synthesis.terminal_cost is '" + cfg.synthesis.terminal_cost + "'");
-  for (int i = 0; i < kNa; ++i) {
+  if (a.tube_law.offset_free != cfg.tube_law.offset_free) c.fail("tube_law_offset_free", "differs from the embedded configuration's tube_law.offset_free");
+  c.near("tube_law_observer_gain", a.tube_law.observer_gain, cfg.tube_law.observer_gain, 1e-12, "tube_law.observer_gain");
+  c.near("solver", a.solver.admm_epsilon, cfg.solver.admm_epsilon, 1e-12, "solver.admm_epsilon");
+  if (a.link.watchdog_periods != cfg.link.watchdog_periods) c.fail("link_watchdog_periods", "differs from the embedded configuration's link.watchdog_periods");
+  if (a.estimator != cfg.estimation.observer) c.fail("estimator", "is '" + a.estimator + "', the embedded configuration's estimation.observer is '" + cfg.estimation.observer + "'");
+  if (a.soft_constraints != cfg.soft_constraints.enabled) c.fail("soft_constraints", "differs from the embedded configuration's soft_constraints.enabled");
+  if (cfg.estimation.output_feedback_tube && !(a.noise_margin >= 1.0 - 1e-9)) {
+    c.fail("noise_margin", "is " + Checker::num(a.noise_margin) + ": the configured noise must fit the output-feedback tube (>= 1)");
+  }
+  for (int i = 0; i < a.n; ++i) {
     c.near("N_x", a.N_x(i), 1.0 / cfg.state_error_max(i), 1e-12, "1 / constraints.state_error_max[" + std::to_string(i) + "]");
   }
-  for (int i = 0; i < kNu; ++i) {
+  for (int i = 0; i < a.m; ++i) {
     c.near("N_u", a.N_u(i), 2.0 / (cfg.input_max(i) - cfg.input_min(i)), 1e-12,
            "2 / (input_max - input_min)[" + std::to_string(i) + "]");
+    c.near("input_min", a.input_min(i), cfg.input_min(i), 1e-12, "constraints.input_min[" + std::to_string(i) + "]");
+    c.near("input_max", a.input_max(i), cfg.input_max(i), 1e-12, "constraints.input_max[" + std::to_string(i) + "]");
   }
-  // The vehicle: the hover equilibrium of the embedded parameters is the stored one
-  // (a model edited after the design, e.g. a mass, changes it).
-  const Equilibrium eq = solve_hover_equilibrium(TiltrotorModel(cfg.vehicle), cfg.reference.yaw);
+  if (!tilt) {
+    if (a.linear_A != cfg.linear.A || a.linear_B != cfg.linear.B || a.linear_D != cfg.linear.D) {
+      c.fail("linear_A", "the linear model differs from the embedded configuration's");
+    }
+    return;
+  }
+  // The vehicle: the records' parameters are the embedded configuration's, and their
+  // hover equilibrium is the stored one (a model edited after the design, e.g. a mass).
+  const VehicleParams& v = a.vehicle;
+  const VehicleParams& w = cfg.vehicle;
+  const double scalars[9] = {v.gravity, v.load_mass, v.rod_length, v.body_mass, v.rotor_mass, v.dihedral, v.drag_torque_ratio, v.spin_right, v.spin_left};
+  const double expected[9] = {w.gravity, w.load_mass, w.rod_length, w.body_mass, w.rotor_mass, w.dihedral, w.drag_torque_ratio, w.spin_right, w.spin_left};
+  for (int i = 0; i < 9; ++i) c.near("vehicle_scalars", scalars[i], expected[i], 1e-12, "the vehicle section, entry " + std::to_string(i));
+  if (v.load_inertia != w.load_inertia || v.body_inertia != w.body_inertia || v.rotor_inertia != w.rotor_inertia ||
+      v.d_a1b != w.d_a1b || v.d_b1 != w.d_b1 || v.rotor_com != w.rotor_com || v.d_b_right != w.d_b_right ||
+      v.d_b_left != w.d_b_left || v.friction != w.friction || v.rotor_inertia_reference != w.rotor_inertia_reference) {
+    c.fail("vehicle_vectors", "the vehicle's inertias or geometry differ from the embedded configuration's");
+  }
+  Equilibrium eq;
+  try {
+    eq = solve_hover_equilibrium(TiltrotorModel(a.vehicle), a.envelope.yaw);
+  } catch (const std::exception& e) {
+    c.fail("vehicle_scalars", std::string("the vehicle has no hover equilibrium: ") + e.what());
+  }
   for (int i = 0; i < 4; ++i) c.near("u_eq", a.u_eq(i), eq.u(i), 1e-6, "the hover input of the embedded vehicle");
   for (int i = 0; i < 4; ++i) c.near("angles_eq", a.angles_eq(i), eq.angles(i), 1e-6, "the hover angles of the embedded vehicle");
 }

@@ -9,18 +9,11 @@
 
 #include <Eigen/Dense>
 
+#include "tmpc/model/perturbation.hpp"
 #include "tmpc/model/reference.hpp"
-#include "tmpc/sim/el_plant.hpp"
-#include "tmpc/sim/perturbation.hpp"
 #include "tmpc/synthesis/lqr.hpp"
 
 namespace tmpc {
-
-const char* const kStateNames[24] = {"x",         "y",         "z",         "phi",       "theta",     "psi",
-                                     "gamma_1",   "gamma_2",   "alpha_r",   "alpha_l",   "x_dot",     "y_dot",
-                                     "z_dot",     "phi_dot",   "theta_dot", "psi_dot",   "gamma_1_dot", "gamma_2_dot",
-                                     "alpha_r_dot", "alpha_l_dot", "int_x",   "int_y",     "int_z",     "int_psi"};
-const char* const kInputNames[4] = {"f_r", "f_l", "tau_r", "tau_l"};
 
 SetSize set_size(const Box& b) {
   SetSize s;
@@ -52,54 +45,62 @@ auto in_section(const Config& cfg, const char* section, F&& f) -> decltype(f()) 
 /// the normalized half-widths) plus W_d = D_z D (the force box on the load).
 Zonotope uncertainty_box(const ControllerDesign& d) {
   const SynthesisSettings& s = d.cfg.synthesis;
-  Zonotope w(Eigen::VectorXd::Zero(kNa), Eigen::MatrixXd(s.w_state_fraction.asDiagonal()));
+  const int n = d.em.n;
+  Zonotope w(Eigen::VectorXd::Zero(n), Eigen::MatrixXd(s.w_state_fraction.asDiagonal()));
   if ((s.w_disturbance.array() > 0.0).any()) {
-    w = w.plus(Zonotope(Eigen::VectorXd::Zero(kNa), d.em.D_n * s.w_disturbance.asDiagonal()));
+    w = w.plus(Zonotope(Eigen::VectorXd::Zero(n), d.em.D_n * s.w_disturbance.asDiagonal()));
   }
   return w;
 }
 
-/// W from sampling: the one-step mismatch between perturbed nonlinear plants and the
-/// nominal linear model, minus its value on the reference (that constant part is the
-/// integrators' job), bounded by a box in normalized coordinates.
+/// W from sampling (tiltrotor): the one-step mismatch between perturbed nonlinear
+/// models and the nominal linear model at trims drawn over the envelope, minus its
+/// value on the reference (that constant part is the integrators' job), bounded by a
+/// box in normalized coordinates. One step is RK4 sub-steps of the model (rk4_step).
 Zonotope uncertainty_sampled(const ControllerDesign& d, std::string& description) {
   const Config& cfg = d.cfg;
   const SynthesisSettings& s = cfg.synthesis;
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
-  std::mt19937_64 rng(cfg.perturbation.seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0), time(0.0, cfg.simulation.duration);
-  PerturbationSettings ps = cfg.perturbation;
+  const EnvelopeSettings env = resolve_envelope(cfg);
+  std::mt19937_64 rng(s.w_seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0), unit(0.0, 1.0);
+  PerturbationSettings ps;
   ps.fraction = s.w_sample_fraction;
   ps.distribution = "uniform";
+  ps.seed = s.w_seed;
   Eigen::VectorXd half = s.w_state_fraction;  // floor: the configured box
   const double T = cfg.sample_time;
+  const long substeps = std::max(1L, std::lround(T / cfg.simulation.substep));
+  const double h = T / static_cast<double>(substeps);
   for (int k = 0; k < s.w_samples; ++k) {
-    const VehicleParams p = apply_mass_scaling(cfg.vehicle, draw_mass_scaling(ps, k));
-    ElPlant plant(p, DisturbanceSchedule{}, cfg.simulation.substep);
-    const double t = time(rng);
-    const ReferencePoint r0 = traj.at(t), r1 = traj.at(t + T);
-    State20 xr0, xr1;
-    xr0 << r0.q, r0.qd;
-    xr1 << r1.q, r1.qd;
-    const Eigen::Vector4d ur = feedforward(model, r0);
+    const TiltrotorModel plant(apply_mass_scaling(cfg.vehicle, draw_mass_scaling(ps, k)));
+    Eigen::Vector3d sigma;
+    for (int i = 0; i < 3; ++i) sigma(i) = env.acceleration_min(i) + unit(rng) * (env.acceleration_max(i) - env.acceleration_min(i));
+    const Trim trim = solve_trim(model, sigma, Eigen::Vector3d::Zero(), env.yaw, d.em.equilibrium);
+    Vec10 q = d.em.equilibrium.q();
+    q(kPsi) = env.yaw;
+    q.segment<2>(kPhi) = trim.attitude;
+    q.segment<4>(kGamma1) = trim.angles;
+    State20 xr;
+    xr << q, Vec10::Zero();
     // Error state drawn in the configured fraction of the state box.
-    Vec24 e = Vec24::Zero();
+    State20 e;
     for (int i = 0; i < kNx; ++i) e(i) = s.w_sample_box * uni(rng) * cfg.state_error_max(i);
-    auto step = [&](const Vec24& e0) {
-      plant.reset(xr0 + e0.head<kNx>(), t);
-      plant.advance(ur, T);
-      return Eigen::Matrix<double, kNx, 1>(plant.state() - xr1);
+    auto step = [&](const State20& x0) {
+      State20 x = x0;
+      for (long j = 0; j < substeps; ++j) x = rk4_step(plant, x, trim.u, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), h);
+      return x;
     };
-    // Mismatch at e and on the reference; their difference is the state-dependent part.
-    const Eigen::Matrix<double, kNx, 1> w = step(e) - d.em.A.topLeftCorner<kNx, kNx>() * e.head<kNx>() - step(Vec24::Zero());
-    half.head<kNx>() = half.head<kNx>().cwiseMax(d.em.N_x.head<kNx>().cwiseProduct(w).cwiseAbs());
+    // Mismatch at e and on the reference; their difference is the state-dependent part
+    // (the reference's own motion over the period cancels).
+    const State20 w = step(xr + e) - d.em.A.topLeftCorner(kNx, kNx) * e - step(xr);
+    half.head(kNx) = half.head(kNx).cwiseMax(d.em.N_x.head(kNx).cwiseProduct(w).cwiseAbs());
   }
   std::ostringstream os;
-  os << "sampled: " << s.w_samples << " one-step mismatches of plants with masses and inertias +-"
-     << 100.0 * s.w_sample_fraction << " % in " << s.w_sample_box << " of the state box, centred on the reference";
+  os << "sampled: " << s.w_samples << " one-step mismatches of models with masses and inertias +-"
+     << 100.0 * s.w_sample_fraction << " % in " << s.w_sample_box << " of the state box, at trims over the envelope";
   description = os.str();
-  return Zonotope(Eigen::VectorXd::Zero(kNa), Eigen::MatrixXd(half.asDiagonal()));
+  return Zonotope(Eigen::VectorXd::Zero(d.em.n), Eigen::MatrixXd(half.asDiagonal()));
 }
 
 /// Closed-loop matrices S_i = A_i + B K for the nominal model and every vertex.
@@ -131,11 +132,11 @@ void tighten(const ControllerDesign& d, const Eigen::MatrixXd& K, const Zonotope
   u_bar = d.U.minus(Z.map(K));
 }
 
-std::string empty_message(const Box& x_bar, const Box& u_bar) {
+std::string empty_message(const ControllerDesign& d, const Box& x_bar, const Box& u_bar) {
   const int ix = x_bar.first_empty_dimension();
-  if (ix >= 0) return std::string("tightened state set X - Z is empty in dimension ") + kStateNames[ix];
+  if (ix >= 0) return "tightened state set X - Z is empty in dimension " + d.state_names[static_cast<std::size_t>(ix)];
   const int iu = u_bar.first_empty_dimension();
-  if (iu >= 0) return std::string("tightened input set U - K Z is empty in dimension ") + kInputNames[iu];
+  if (iu >= 0) return "tightened input set U - K Z is empty in dimension " + d.input_names[static_cast<std::size_t>(iu)];
   return "";
 }
 
@@ -176,6 +177,35 @@ double robustness_margin(const ControllerDesign& d, const std::string& variant, 
   return lo;
 }
 
+/// The Kalman filter of the config's `estimation` section (estimator.hpp): measured
+/// rows, residual channels on the angular-rate rows, covariances in normalized units.
+KalmanDesign kalman_for(const ControllerDesign& d) {
+  const EstimationSettings& e = d.cfg.estimation;
+  const std::vector<StateKind> kinds = d.cfg.state_kinds();
+  const int p = d.em.measured, nd = static_cast<int>(d.em.D_n.cols());
+  std::vector<int> rows, rates;
+  for (int i = 0; i < p; ++i) {
+    const StateKind k = kinds[static_cast<std::size_t>(i)];
+    if (e.measured == "all" || k != StateKind::Velocity) rows.push_back(i);
+    if (k == StateKind::AngularRate) rates.push_back(i);
+  }
+  Eigen::MatrixXd E_c = Eigen::MatrixXd::Zero(p, static_cast<Eigen::Index>(rates.size()));
+  for (std::size_t j = 0; j < rates.size(); ++j) E_c(rates[j], static_cast<Eigen::Index>(j)) = 1.0;
+  const int nc = static_cast<int>(rates.size()), na = p + nd + nc;
+  Eigen::VectorXd q(na);
+  q.head(p).setConstant(e.process_state_fraction * e.process_state_fraction);
+  q.segment(p, nd).setConstant(e.process_force * e.process_force);
+  q.tail(nc).setConstant(e.process_residual * e.process_residual);
+  Eigen::VectorXd r(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const int i = rows[j];
+    const double sn = e.noise[static_cast<std::size_t>(group_of(kinds[static_cast<std::size_t>(i)]))] * d.em.N_x(i);
+    r(static_cast<Eigen::Index>(j)) = sn * sn;
+  }
+  return design_kalman(d.em.A_n.topLeftCorner(p, p), d.em.B_n.topRows(p), d.em.D_n.topRows(p), E_c, rows,
+                       q.asDiagonal(), r.asDiagonal());
+}
+
 }  // namespace
 
 ControllerDesign design_controller(const Config& cfg, const std::string& config_text, const DesignProgress& progress) {
@@ -192,15 +222,17 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
   // x'Sigma x = x_n' N_x^-1 Sigma N_x^-1 x_n (the thesis' weights are physical: LQR
   // with them reproduces the spectral radius 0.9940 of research/tube_feasibility.md).
   auto t0 = Clock::now();
-  say("linear error model along the helix");
-  const TiltrotorModel model(cfg.vehicle);
-  d.em = in_section(cfg, "reference (linearization and trim along the trajectory)", [&] { return build_error_model(cfg, model); });
+  say(cfg.model == ModelKind::Tiltrotor ? "linear error model over the trajectory envelope" : "linear model");
+  d.state_names = cfg.state_names();
+  d.input_names = cfg.input_names();
+  d.envelope = cfg.model == ModelKind::Tiltrotor ? resolve_envelope(cfg) : cfg.envelope;
+  d.em = in_section(cfg, "envelope (linearization and trim over the envelope)", [&] { return build_error_model(cfg); });
   const Eigen::VectorXd nx_inv = d.em.N_x.cwiseInverse(), nu_inv = d.em.N_u.cwiseInverse();
   d.Sigma_rho_n = (cfg.state_weights.cwiseProduct(nx_inv).cwiseProduct(nx_inv)).asDiagonal();
   d.Sigma_lambda_n = (cfg.input_weights.cwiseProduct(nu_inv).cwiseProduct(nu_inv)).asDiagonal();
   d.vertices.push_back(d.em.A_n);
-  for (const Mat24& A : d.em.A_n_vertices) d.vertices.push_back(A);
-  d.X = Box::symmetric(Eigen::VectorXd::Ones(kNa));
+  for (const Eigen::MatrixXd& A : d.em.A_n_vertices) d.vertices.push_back(A);
+  d.X = Box::symmetric(Eigen::VectorXd::Ones(d.em.n));
   d.U = Box(d.em.N_u.cwiseProduct(d.em.input_error_min), d.em.N_u.cwiseProduct(d.em.input_error_max));
   d.seconds.error_model = since(t0);
 
@@ -224,6 +256,12 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
                                    [&] { return solve_dlqr(d.em.A_n, d.em.B_n, d.Sigma_rho_n, d.Sigma_lambda_n); });
   d.K_lqr = lqr.K;
   d.P_lqr = lqr.P;
+  // The LQR tube gain: the same DARE with its own input weights (synthesis.lqr_input_scale
+  // times lambda; a softer gain passes less sensor noise to the inputs).
+  const Eigen::MatrixXd R_tube = syn.lqr_input_scale.asDiagonal() * d.Sigma_lambda_n;
+  const LqrResult tube_lqr = (syn.lqr_input_scale.array() == 1.0).all()
+                                 ? lqr
+                                 : in_section(cfg, "synthesis.lqr_input_scale", [&] { return solve_dlqr(d.em.A_n, d.em.B_n, d.Sigma_rho_n, R_tube); });
   std::vector<std::string> names = {"lqr"};
   if (syn.compare_gains || syn.tube_gain == "lmi_thesis") names.push_back("lmi_thesis");
   if (syn.compare_gains || syn.tube_gain == "lmi_robust") names.push_back("lmi_robust");
@@ -249,9 +287,9 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
     g.name = name;
     if (name == "lqr") {
       g.available = true;
-      g.K = lqr.K;
+      g.K = tube_lqr.K;
       std::ostringstream os;
-      os << "DARE residual " << lqr.residual << " after " << lqr.iterations << " doubling steps";
+      os << "DARE residual " << tube_lqr.residual << " after " << tube_lqr.iterations << " doubling steps";
       g.message = os.str();
     } else {
       const LmiForm form = name == "lmi_thesis" ? LmiForm::Thesis : LmiForm::Robust;
@@ -300,7 +338,7 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
   // Per-vertex gains K_i of Theorem 3.3, from the selected family.
   for (std::size_t i = 1; i < d.vertices.size(); ++i) {
     if (syn.tube_gain == "lqr") {
-      d.K_vertices.push_back(solve_dlqr(d.vertices[i], d.em.B_n, d.Sigma_rho_n, d.Sigma_lambda_n).K);
+      d.K_vertices.push_back(solve_dlqr(d.vertices[i], d.em.B_n, d.Sigma_rho_n, R_tube).K);
     } else if (syn.rpi_variant == "lpv_thesis") {
       say("Theorem 3.1 at vertex " + std::to_string(i));
       const LmiForm form = syn.tube_gain == "lmi_thesis" ? LmiForm::Thesis : LmiForm::Robust;
@@ -330,7 +368,7 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
       g.generators = r.Z.order();
       g.z_hull = r.Z.interval_hull();
       tighten(d, g.K, r.Z, g.x_bar, g.u_bar);
-      g.tube_message = empty_message(g.x_bar, g.u_bar);
+      g.tube_message = empty_message(d, g.x_bar, g.u_bar);
       g.tube_ok = g.tube_message.empty();
       std::string method;
       g.margin = robustness_margin(d, syn.rpi_variant, g.K, Kv, d.W, r.Z, method);
@@ -371,13 +409,78 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
       c.x_bar = set_size(xb);
       c.u_bar = set_size(ub);
       c.support_ratio = check_invariance_support(r.Z, S, d.W, std::min(200, syn.verify_directions), 7).worst_ratio;
-      c.message = empty_message(xb, ub);
+      c.message = empty_message(d, xb, ub);
     } catch (const std::exception& e) {
       c.message = e.what();
     }
     d.variants.push_back(c);
   }
   d.seconds.checks = since(t0);
+
+  // State estimation and the output-feedback tube.
+  t0 = Clock::now();
+  d.x_bar_state_feedback = d.x_bar;
+  d.u_bar_state_feedback = d.u_bar;
+  if (cfg.estimation.observer == "kalman") {
+    say("Kalman filter");
+    d.kf = in_section(cfg, "estimation", [&] { return kalman_for(d); });
+    d.kalman = true;
+    {
+      // How much sensor noise the tube gain passes to the inputs, for softer and harder
+      // input weights than the design's (the report's trade-off; the selected gain is
+      // the config's synthesis.lqr_input_scale).
+      const int p = d.kf.p;
+      const Eigen::MatrixXd post = ((Eigen::MatrixXd::Identity(d.kf.P.rows(), d.kf.P.cols()) - d.kf.L * d.kf.C) * d.kf.P).topLeftCorner(p, p);
+      for (double f : {0.1, 1.0, 10.0, 100.0}) {
+        ControllerDesign::NoiseTradeoff t;
+        t.scale = f;
+        const Eigen::MatrixXd R = f * syn.lqr_input_scale.asDiagonal() * d.Sigma_lambda_n;
+        const Eigen::MatrixXd K = solve_dlqr(d.em.A_n, d.em.B_n, d.Sigma_rho_n, R).K;
+        const Eigen::MatrixXd Kp = K.leftCols(p);
+        t.input_noise_std = (Kp * post * Kp.transpose()).diagonal().cwiseSqrt().cwiseQuotient(d.em.N_u);
+        t.spectral_radius = spectral_radius(d.em.A_n + d.em.B_n * K);
+        try {
+          const std::vector<Eigen::MatrixXd> Kv(d.vertices.size() - 1, K);
+          const RpiResult r = compute_tube(d, syn.rpi_variant, K, Kv, d.W);
+          std::string method;
+          t.margin = robustness_margin(d, syn.rpi_variant, K, Kv, d.W, r.Z, method);
+        } catch (const std::exception&) {
+          t.margin = 0.0;
+        }
+        d.noise_tradeoff.push_back(t);
+      }
+    }
+    {  // computed for the report always, applied when configured
+      say("output-feedback tube (estimation error and control tube)");
+      const EstimationSettings& e = cfg.estimation;
+      const Eigen::Index p = d.kf.p, nd = d.em.D_n.cols(), nc = d.kf.E_c.cols();
+      Eigen::VectorXd W_a(p + nd + nc);
+      W_a.head(p) = d.W.radius().head(p);
+      W_a.segment(p, nd).setConstant(e.force_rate_bound);
+      W_a.tail(nc).setConstant(e.residual_rate_bound);
+      const Eigen::VectorXd V = e.noise_bound_sigmas * d.kf.R.diagonal().cwiseSqrt();
+      const std::vector<Eigen::MatrixXd> loops =
+          syn.rpi_variant == "lpv_robust" ? closed_loops(d, d.K) : std::vector<Eigen::MatrixXd>{closed_loops(d, d.K)[0]};
+      d.of = in_section(cfg, "estimation.output_feedback_tube",
+                        [&] { return output_feedback_tube(d.kf, loops, d.K, W_a, V, d.X, d.U, syn.rpi_lambda); });
+      d.of_computed = true;
+      const std::string msg = empty_message(d, d.of.x_bar, d.of.u_bar);
+      if (e.output_feedback_tube && !msg.empty()) {
+        std::ostringstream os;
+        os << cfg.source << ": estimation: the output-feedback tube at " << e.noise_bound_sigmas
+           << " standard deviations of the measurement noise: " << msg << " (the sets hold up to "
+           << d.of.noise_margin << " times that noise)";
+        throw ConfigError(os.str());
+      }
+      if (e.output_feedback_tube) {
+        d.output_feedback = true;
+        d.tube.Z = d.of.Z_c;
+        d.x_bar = d.of.x_bar;
+        d.u_bar = d.of.u_bar;
+      }
+    }
+  }
+  d.seconds.estimation = since(t0);
 
   // QP data.
   t0 = Clock::now();

@@ -33,8 +33,16 @@ std::string design_report_json(const ControllerDesign& d) {
   const SynthesisSettings& s = d.cfg.synthesis;
   j["config"] = d.cfg.source;
   j["coordinates"] = "normalized: x_n = N_x x, u_n = N_u u (physical values given as *_physical)";
-  j["state_names"] = std::vector<std::string>(kStateNames, kStateNames + 24);
-  j["input_names"] = std::vector<std::string>(kInputNames, kInputNames + 4);
+  j["model"] = d.cfg.model == ModelKind::Tiltrotor ? "tiltrotor" : "linear";
+  j["state_names"] = d.state_names;
+  j["input_names"] = d.input_names;
+  j["envelope"] = {{"acceleration_min", vec(d.envelope.acceleration_min)},
+                   {"acceleration_max", vec(d.envelope.acceleration_max)},
+                   {"speed_max", d.envelope.speed_max},
+                   {"yaw", d.envelope.yaw},
+                   {"yaw_tolerance", d.envelope.yaw_tolerance},
+                   {"feedforward_min", vec(d.em.u_r_min)},
+                   {"feedforward_max", vec(d.em.u_r_max)}};
   j["time_s"] = {{"error_model", d.seconds.error_model}, {"uncertainty", d.seconds.uncertainty},
                  {"gains", d.seconds.gains},             {"rpi_and_margins", d.seconds.rpi},
                  {"checks", d.seconds.checks},           {"qp", d.seconds.qp},
@@ -105,6 +113,29 @@ std::string design_report_json(const ControllerDesign& d) {
   j["tightened"] = {{"x_bar", box(d.x_bar, d.em.N_x)}, {"u_bar", box(d.u_bar, d.em.N_u)}};
   j["robustness_margin"] = {{"scale", d.margin}, {"method", d.margin_method}};
   j["terminal_cost"] = s.terminal_cost;
+  if (d.kalman) {
+    const Eigen::MatrixXd post = (Eigen::MatrixXd::Identity(d.kf.P.rows(), d.kf.P.cols()) - d.kf.L * d.kf.C) * d.kf.P;
+    Eigen::VectorXd sd = post.diagonal().cwiseSqrt();
+    for (int i = 0; i < d.kf.p; ++i) sd(i) /= d.em.N_x(i);  // physical units (the disturbances are already)
+    nlohmann::json trade = nlohmann::json::array();
+    for (const auto& t : d.noise_tradeoff) {
+      trade.push_back({{"input_weight_scale", t.scale}, {"input_noise_std", vec(t.input_noise_std)},
+                       {"spectral_radius", t.spectral_radius}, {"robustness_margin", t.margin}});
+    }
+    j["estimation"] = {{"observer", "kalman"},
+                       {"measured_rows", d.kf.measured_rows},
+                       {"residual_channels", d.kf.E_c.cols()},
+                       {"error_spectral_radius", d.kf.spectral_radius},
+                       {"estimation_error_std", vec(sd)},
+                       {"noise_tradeoff", trade},
+                       {"output_feedback_tube", {{"applied", d.output_feedback},
+                                                 {"noise_margin", d.of_computed ? d.of.noise_margin : 0.0},
+                                                 {"estimation_error_half_widths", d.of_computed ? vec(d.of.e_x_radius.cwiseQuotient(d.em.N_x)) : nlohmann::json()},
+                                                 {"control_tube_half_widths", d.of_computed ? vec(d.of.Z_c.radius().cwiseQuotient(d.em.N_x)) : nlohmann::json()},
+                                                 {"j_estimation", d.of.j_estimation}}}};
+  } else {
+    j["estimation"] = {{"observer", "residual"}};
+  }
   j["qp"] = {{"N", d.qp.N}, {"M", d.qp.M}, {"variables", d.qp.variables()},
              {"constraints", d.qp.variables() + d.qp.state_constraints()}};
   return j.dump(2);

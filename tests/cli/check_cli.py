@@ -3,7 +3,8 @@
 and its figures are parsed and compared with what the README states.
 
     check_cli.py TMPC CONFIG SCRATCH CHECK    (CHECK: openloop-el | openloop-mujoco |
-                                               unknown-plant | crosscheck | devices | batch)
+                                               unknown-plant | crosscheck | devices | batch |
+                                               preflight | second-system)
 """
 import json
 import os
@@ -67,6 +68,8 @@ elif check == "batch":
     # (--batch): the batch rows are the single solves.
     text = open(config).read().replace("compare_gains: true", "compare_gains: false")
     text = text.replace("verify_directions: 2000", "verify_directions: 100")
+    scenarios = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios/")  # the envelope's, from the copy
+    text = re.sub(r"(?<=[\[\s,])scenarios/", lambda _: scenarios, text)
     quick = os.path.join(scratch, "quick.yaml")
     open(quick, "w").write(text)
     art = os.path.join(scratch, "c.tmpc")
@@ -95,6 +98,49 @@ elif check == "batch":
     open(bad, "w").write("1 2 3\n")
     p = run("solve", "--controller", art, "--batch", bad, expect_rc=None)
     need(p.returncode != 0 and "bad.txt" in p.stderr, f"a short batch line was accepted: {p.returncode} {p.stderr}")
+elif check == "preflight":
+    # `tmpc check`: the shipped scenarios are flyable with a design of the default
+    # config (exit 0); a scenario outside the envelope is refused (exit 1) with the time
+    # and the numbers; `simulate` refuses it before take-off (an error, no output).
+    text = open(config).read().replace("compare_gains: true", "compare_gains: false")
+    text = text.replace("verify_directions: 2000", "verify_directions: 100")
+    scenarios = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios/")
+    text = re.sub(r"(?<=[\[\s,])scenarios/", lambda _: scenarios, text)
+    quick = os.path.join(scratch, "quick.yaml")
+    open(quick, "w").write(text)
+    art = os.path.join(scratch, "c.tmpc")
+    run("design", "--config", quick, "--out", art)
+    for name in ["thesis_helix", "figure_eight", "waypoints", "lissajous_csv"]:
+        j = json.loads(run("check", "--controller", art, "--scenario", scenarios + name + ".yaml", "--json").stdout)
+        need(j["ok"] and j["scenario"] == name, f"{name}: {j}")
+    fast = os.path.join(scratch, "fast_eight.yaml")
+    open(fast, "w").write("duration: 60\ntrajectory: {type: figure_eight, center: [0, 0, 3], amplitude: [8, 3], "
+                          "angular_rate: 0.11}\n")
+    p = run("check", "--controller", art, "--scenario", fast, expect_rc=1)
+    need(re.search(r"REFUSED: .*t = [0-9.]+ s: acceleration [xyz] = -?[0-9.]+ m/s\^2 outside the envelope", p.stdout)
+         is not None, f"refusal without the time and the numbers: {p.stdout}")
+    p = run("simulate", "--controller", art, "--scenario", fast, "--out", os.path.join(scratch, "fast"), expect_rc=None)
+    need(p.returncode != 0 and "refused before take-off" in p.stderr, f"simulate flew it: {p.returncode} {p.stderr}")
+    need(not os.path.exists(os.path.join(scratch, "fast", "metrics.json")), "a refused flight left metrics")
+elif check == "second-system":
+    # The mass-spring pair (config/mass_spring.yaml): designed, flown on the virtual
+    # clock and in real time over a pseudo-terminal pair by the same commands.
+    cfg = os.path.join(os.path.dirname(os.path.abspath(config)), "mass_spring.yaml")
+    scen = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios", "mass_spring_steps.yaml")
+    art = os.path.join(scratch, "ms.tmpc")
+    run("design", "--config", cfg, "--out", art)
+    info = run("inspect", art).stdout
+    need("model linear: 6 states (4 measured), 2 inputs" in info, f"inspect: {info}")
+    run("simulate", "--controller", art, "--scenario", scen, "--out", os.path.join(scratch, "sim"))
+    m = json.load(open(os.path.join(scratch, "sim", "metrics.json")))
+    need(m["state_constraint_violations"] == 0 and m["fallback_periods"] == 0 and not m["diverged"], f"simulate: {m}")
+    need(abs(m["rmse"]["p1"] - 0.0415) < 0.02 * 0.0415, f"RMSE p1 {m['rmse']['p1']} (tests: 0.0415)")
+    p = run("hil", "--controller", art, "--scenario", scen, "--duration", "3", "--out", os.path.join(scratch, "hil"))
+    out = p.stdout + p.stderr
+    need(re.search(r"states \d+ accepted, 0 rejected", out) is not None, f"hil link: {out}")
+    need(re.search(r"telemetry \d+ records, 0 dropped", out) is not None, f"hil telemetry: {out}")
+    header = open(os.path.join(scratch, "hil", "telemetry.csv")).readline()
+    need(header.startswith("period,t,e_p1,e_p2,e_v1,e_v2,e_int_p1,e_int_p2,"), f"telemetry header: {header}")
 else:
     sys.exit(f"unknown check {check}")
 

@@ -15,7 +15,7 @@ namespace tmpc {
 namespace {
 
 const ControllerArtifact& artifact() {
-  static const ControllerArtifact a = make_artifact(test::quick_design());
+  static const ControllerArtifact a = test::quick_artifact();
   return a;
 }
 

@@ -65,11 +65,11 @@ inline void expect_parity(const ParityStats& st, bool iterations = true) {
 }
 
 /// What the README states for the exact variant's kernel code in float against its
-/// double CPU twin: u(0) within 3e-7 of the input range, the same iteration count on
+/// double CPU twin: u(0) within 4e-6 of the input range, the same iteration count on
 /// all but `mismatches` QPs, none more than one check interval (5) apart.
 inline void expect_exact_twin(const ParityStats& st, int mismatches) {
   EXPECT_EQ(st.status_mismatch, 0);
-  EXPECT_LE(st.worst_u, 3e-7);
+  EXPECT_LE(st.worst_u, 4e-6);
   EXPECT_LE(st.iteration_mismatches, mismatches);
   EXPECT_LE(st.max_iteration_difference, 5);
 }

@@ -36,8 +36,9 @@ TEST(Campaign, WelchStatisticAndDegreesOfFreedom) {
 
 TEST(Campaign, JsonHoldsMeanStdAndEveryRun) {
   MissionMetrics a, b;
-  a.rmse[0] = 1.0;
-  b.rmse[0] = 3.0;
+  a.state_names = b.state_names = {"x", "y"};
+  a.rmse = {1.0, 0.5};
+  b.rmse = {3.0, 0.5};
   a.fallback_periods = 2;
   b.fallback_periods = 4;
   const nlohmann::json j = nlohmann::json::parse(campaign_json({a, b}, 7));
@@ -48,6 +49,7 @@ TEST(Campaign, JsonHoldsMeanStdAndEveryRun) {
   EXPECT_DOUBLE_EQ(j["mean"]["fallback_periods"].get<double>(), 3.0);
   ASSERT_EQ(j["runs"].size(), 2u);
   EXPECT_DOUBLE_EQ(j["runs"][1]["rmse"]["x"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["std"]["rmse"]["y"].get<double>(), 0.0);
 }
 
 }  // namespace

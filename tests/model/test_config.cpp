@@ -1,5 +1,6 @@
 // Config loading: the default file loads, and every class of malformed input is an
 // error that names the file and the key.
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -51,10 +52,16 @@ TEST(Config, DefaultLoadsWithTheCaseStudyNumbers) {
   EXPECT_DOUBLE_EQ(c.state_error_max(18), 0.2);  // alpha_r rate
   EXPECT_DOUBLE_EQ(c.input_weights(2), 38.730);
   EXPECT_DOUBLE_EQ(c.state_weights(23), 0.158);
-  ASSERT_EQ(c.disturbances.size(), 3u);
-  EXPECT_DOUBLE_EQ(c.disturbances[1].time, 40.0);
-  EXPECT_DOUBLE_EQ(c.disturbances[1].force.y(), 1.0);
-  EXPECT_EQ(c.perturbation.runs, 10);
+  EXPECT_EQ(c.model, ModelKind::Tiltrotor);
+  EXPECT_EQ(c.states(), 24);
+  EXPECT_EQ(c.measured(), 20);
+  EXPECT_EQ(c.inputs(), 4);
+  EXPECT_EQ(c.integrated(), (std::vector<int>{0, 1, 2, 5}));
+  EXPECT_EQ(c.state_names()[7], "gamma_2");
+  EXPECT_EQ(c.state_names()[23], "int_psi");
+  EXPECT_DOUBLE_EQ(c.envelope.acceleration_max.y(), 0.06);
+  EXPECT_DOUBLE_EQ(c.envelope.acceleration_min.z(), -0.04);
+  EXPECT_EQ(c.envelope.trajectories.size(), 4u);
   EXPECT_DOUBLE_EQ(c.solver.admm_eta, 0.999);
   EXPECT_EQ(c.vehicle.rotor_inertia_reference, RotorInertiaReference::Com);
   EXPECT_EQ(c.error_model.discretization, Discretization::Zoh);
@@ -75,7 +82,7 @@ TEST(Config, WrongVectorLengthIsNamed) {
 
 TEST(Config, NonFiniteValueIsNamed) {
   expect_error(load_with("mass: 0.5", "mass: .nan"), "vehicle.load.mass", "finite");
-  expect_error(load_with("z_offset: 4.0", "z_offset: .inf"), "reference.z_offset", "finite");
+  expect_error(load_with("speed_max: 1.0", "speed_max: .inf"), "envelope.speed_max", "finite");
 }
 
 TEST(Config, OutOfRangeValueIsNamed) {
@@ -94,7 +101,7 @@ TEST(Config, NonPositiveWeightIsNamed) {
 
 TEST(Config, MissingKeyWrongTypeAndBadEnumAreNamed) {
   expect_error(load_with("  rod_length: 0.5", "  # rod_length: 0.5"), "vehicle.rod_length", "missing");
-  expect_error(load_with("radius: 5.0", "radius: five"), "reference.radius", "expected a number");
+  expect_error(load_with("speed_max: 1.0", "speed_max: five"), "envelope.speed_max", "expected a number");
   expect_error(load_with("discretization: zoh", "discretization: tustin"), "error_model.discretization",
                "unknown value 'tustin'");
   expect_error(load_with("spin_left: -1", "spin_left: 2"), "vehicle.rotor.spin_left", "+1 or -1");
@@ -132,7 +139,7 @@ TEST(Config, KeysMustBePlainNames) {
 
 TEST(Config, IntegersMustBeWhole) {
   expect_error(load_with("horizon: 20 ", "horizon: 20.7 "), "synthesis.horizon", "expected a whole number, got 20.7");
-  expect_error(load_with("runs: 10", "runs: 2.5"), "perturbation.runs", "whole number");
+  expect_error(load_with("envelope_grid: 5", "envelope_grid: 2.5"), "error_model.envelope_grid", "whole number");
   expect_error(load_with("horizon: 20 ", "horizon: 5000 "), "synthesis.horizon", "out of range");
 }
 
@@ -208,6 +215,89 @@ TEST(Config, SpecialAndHugeFilesAreClearErrors) {
     out << std::string(static_cast<std::size_t>(kMaxConfigBytes), '#') << "\n";
   }
   EXPECT_NE(message(big).find("too large"), std::string::npos) << message(big);
+}
+
+
+// A configuration that names a base: the base's keys with its own laid over them.
+TEST(Config, ABaseConfigurationIsMergedKeyByKey) {
+  const std::string dir = ::testing::TempDir() + "base_cfg/";
+  std::system(("mkdir -p " + dir).c_str());
+  {
+    std::ofstream(dir + "base.yaml") << default_text();
+    std::ofstream(dir + "derived.yaml") << "base: base.yaml\nsample_time: 0.012\nsynthesis:\n  horizon: 10\n"
+                                           "  lqr_input_scale: [1, 1, 5, 5]\ntube_law: {offset_free: true, observer_gain: 0.2}\n";
+  }
+  const Config c = load_config(dir + "derived.yaml");
+  EXPECT_EQ(c.synthesis.horizon, 10);                 // replaced inside the merged mapping
+  EXPECT_EQ(c.synthesis.control_horizon, 4);          // kept from the base
+  EXPECT_EQ(c.synthesis.tube_gain, "lqr");
+  EXPECT_DOUBLE_EQ(c.synthesis.lqr_input_scale(2), 5.0);
+  EXPECT_DOUBLE_EQ(c.tube_law.observer_gain, 0.2);
+  EXPECT_DOUBLE_EQ(c.vehicle.body_mass, 1.7068);
+  // The merged text stands alone (an artifact embeds it): no base key left.
+  const std::string merged = read_config_text(dir + "derived.yaml");
+  EXPECT_EQ(merged.find("base:"), std::string::npos);
+  EXPECT_EQ(load_config_from_string(merged, "merged.yaml").synthesis.horizon, 10);
+  // A file without base is returned as written (comments kept).
+  EXPECT_EQ(read_config_text(dir + "base.yaml"), default_text());
+  auto error = [&](const std::string& text) {
+    std::ofstream(dir + "bad.yaml") << text;
+    try {
+      load_config(dir + "bad.yaml");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("base: missing.yaml\n").find("missing.yaml: cannot open"), std::string::npos);
+  EXPECT_NE(error("base: base.yaml\nsynthesis: {horizon: 10}\nsynthesis: {horizon: 12}\n").find("synthesis: duplicate key"),
+            std::string::npos);
+  EXPECT_NE(error("base: bad.yaml\n").find("more than 4 levels"), std::string::npos);  // itself
+  EXPECT_NE(error("base: [a]\n").find("base: expected a file name"), std::string::npos);
+  EXPECT_NE(error("base: base.yaml\nsynthesis: {horizn: 10}\n").find("synthesis.horizn: unknown key"), std::string::npos);
+}
+
+TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
+  const Config& c = test::default_config();
+  EXPECT_EQ(c.estimation.observer, "residual");  // the shipped design: no section
+  EXPECT_FALSE(c.soft_constraints.enabled);
+  const Config n = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor_noisy.yaml");
+  EXPECT_EQ(n.estimation.observer, "kalman");
+  EXPECT_DOUBLE_EQ(n.estimation.noise[0], 0.005);
+  EXPECT_DOUBLE_EQ(n.estimation.noise[1], 0.00524);
+  EXPECT_TRUE(n.soft_constraints.enabled);
+  EXPECT_DOUBLE_EQ(n.synthesis.lqr_input_scale(3), 100.0);
+  const std::string est =
+      "\nestimation:\n  observer: kalman\n  measured: all\n  measurement_noise: {position: 0.005, angle: 0.005, "
+      "velocity: 0.03, angular_rate: 0.03}\n  process_noise: {state_fraction: 3.0e-5, force: 0.02, residual: 1.0e-4}\n";
+  auto with = [&](const std::string& section) {
+    try {
+      load_config_from_string(default_text() + section, "bad.yaml");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(with(est), "");
+  expect_error(with(est + "  output_feedback_tube: maybe\n"), "estimation.output_feedback_tube", "expected true or false");
+  std::string bad = est;
+  bad.replace(bad.find("observer: kalman"), 16, "observer: luenberger");
+  expect_error(with(bad), "estimation.observer", "unknown value 'luenberger'");
+  bad = est;
+  bad.replace(bad.find("position: 0.005"), 15, "position: -1");
+  expect_error(with(bad), "estimation.measurement_noise.position", "must be positive");
+  std::string mayne = default_text();
+  mayne.replace(mayne.find("offset_free: true"), 17, "offset_free: false");
+  try {
+    load_config_from_string(mayne + est, "bad.yaml");
+    ADD_FAILURE() << "a Kalman filter without the offset-free law loaded";
+  } catch (const ConfigError& e) {
+    expect_error(e.what(), "estimation.observer", "needs tube_law.offset_free: true");
+  }
+  expect_error(with("\nsoft_constraints: {enabled: true, penalty: -2}\n"), "soft_constraints.penalty", "out of range");
+  expect_error(with("\nsoft_constraints: {enabled: yes}\n"), "soft_constraints.enabled", "expected true or false");
+  expect_error(load_with("  tube_gain: lqr", "  tube_gain: lqr\n  lqr_input_scale: [1, 1, 0, 1]"),
+               "synthesis.lqr_input_scale", "must be positive");
 }
 
 }  // namespace

@@ -50,7 +50,7 @@ TEST(Feedforward, AtHoverIsTheEquilibriumInput) {
 TEST(Feedforward, HelixStartsOnTheReferenceWithTheThesisNumbers) {
   const Config& cfg = test::default_config();
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
+  ReferenceGenerator traj(model, test::thesis_helix());
   const ReferencePoint r0 = traj.at(0.0);
   EXPECT_NEAR(r0.q(kX), 5.0, 1e-12);
   EXPECT_NEAR(r0.q(kY), 0.0, 1e-12);

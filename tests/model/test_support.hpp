@@ -1,12 +1,15 @@
 // Shared fixtures of the model tests: the default config and random admissible states.
 #pragma once
 
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <random>
 #include <string>
 
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/dynamics.hpp"
+#include "tmpc/model/trajectory.hpp"
 
 namespace tmpc::test {
 
@@ -20,6 +23,13 @@ inline std::string source_dir() {
 inline const Config& default_config() {
   static const Config cfg = load_config(source_dir() + "/config/tiltrotor.yaml");
   return cfg;
+}
+
+/// The thesis' helix (6.2; config/scenarios/thesis_helix.yaml): r = 5 m, z = 4 - 3 cos(w t),
+/// w = pi / 40 rad/s, yaw 0.
+inline std::shared_ptr<const Trajectory> thesis_helix() {
+  static const std::shared_ptr<const Trajectory> h = make_helix({Eigen::Vector3d(0, 0, 4), 5.0, 3.0, M_PI / 40.0, 0.0});
+  return h;
 }
 
 /// Random admissible configuration: position anywhere, attitude and joint angles

@@ -25,7 +25,7 @@ class ScriptedPlant : public io::Transport {
     if (delivered_ || period_ >= static_cast<int>(frames_.size())) return 0;
     const std::vector<std::uint8_t>& f = frames_[static_cast<std::size_t>(period_)];
     const std::size_t n = std::min(cap, f.size());
-    std::memcpy(buf, f.data(), n);
+    if (n > 0) std::memcpy(buf, f.data(), n);  // an empty frame's data() may be null
     delivered_ = true;
     return static_cast<long>(n);
   }
@@ -71,22 +71,29 @@ inline std::vector<std::uint8_t> state_bytes(std::uint32_t session, std::uint32_
 
 }  // namespace tmpc::test
 
+#include <memory>
+
 #include "tmpc/sim/el_plant.hpp"
 
 namespace tmpc::test {
 
-/// A closed loop on the loop's own schedule: the Euler-Lagrange plant starts on the
-/// reference, each period's state frame is its state (passed through `edit`, which may
-/// offset or drop it), and each control frame advances it one period.
+/// A closed loop on the loop's own schedule: a plant (started where the test wants
+/// it), each period's state frame its state (passed through `edit`, which may offset
+/// or drop it), each control frame advancing it one period with the inputs it carries.
 class SimulatedPlantLink : public io::Transport {
  public:
   using Edit = std::function<std::vector<std::uint8_t>(int period, const io::StateFrame& f)>;
-  SimulatedPlantLink(const Config& cfg, const HelixTrajectory& traj, Edit edit)
-      : plant_(cfg.vehicle, DisturbanceSchedule{}, cfg.simulation.substep), T_(cfg.sample_time), edit_(std::move(edit)) {
+  SimulatedPlantLink(std::unique_ptr<Plant> plant, double sample_time, Edit edit)
+      : plant_(std::move(plant)), T_(sample_time), edit_(std::move(edit)),
+        decoder_(io::control_decoder_settings(plant_->inputs())), u_(Eigen::VectorXd::Zero(plant_->inputs())) {}
+  /// The tiltrotor's Euler-Lagrange plant started on the reference at t = 0.
+  SimulatedPlantLink(const Config& cfg, ReferenceGenerator& traj, Edit edit)
+      : SimulatedPlantLink(std::make_unique<ElPlant>(cfg.vehicle, DisturbanceProfile{}, cfg.simulation.substep),
+                           cfg.sample_time, std::move(edit)) {
     const ReferencePoint r0 = traj.at(0.0);
-    State20 x0;
+    Eigen::VectorXd x0(20);
     x0 << r0.q, r0.qd;
-    plant_.reset(x0, 0.0);
+    plant_->reset(x0, 0.0);
   }
   long read_some(std::uint8_t* buf, std::size_t cap) override {
     if (delivered_) return 0;
@@ -94,9 +101,9 @@ class SimulatedPlantLink : public io::Transport {
     io::StateFrame f;
     f.session = 0x5151;
     f.seq = static_cast<std::uint32_t>(period_ + 1);
-    f.time = plant_.time();
-    f.n = 20;
-    for (int i = 0; i < 20; ++i) f.x[static_cast<std::size_t>(i)] = plant_.state()(i);
+    f.time = plant_->time();
+    f.n = static_cast<std::uint8_t>(plant_->states());
+    for (int i = 0; i < plant_->states(); ++i) f.x[static_cast<std::size_t>(i)] = plant_->state()(i);
     std::vector<std::uint8_t> bytes;
     if (edit_) {
       bytes = edit_(period_, f);
@@ -110,23 +117,23 @@ class SimulatedPlantLink : public io::Transport {
   bool write_all(const std::uint8_t* b, std::size_t n, int) override {
     for (std::size_t i = 0; i < n; ++i) {
       if (decoder_.push(b[i])) {
-        for (int k = 0; k < 4; ++k) u_(k) = decoder_.control().u[static_cast<std::size_t>(k)];
+        for (int k = 0; k < plant_->inputs(); ++k) u_(k) = decoder_.control().u[static_cast<std::size_t>(k)];
       }
     }
-    plant_.advance(u_, T_);
+    plant_->advance(u_, T_);
     ++period_;
     delivered_ = false;
     return true;
   }
-  const ElPlant& plant() const { return plant_; }
+  const Plant& plant() const { return *plant_; }
   int periods() const { return period_; }
 
  private:
-  ElPlant plant_;
+  std::unique_ptr<Plant> plant_;
   double T_;
   Edit edit_;
-  io::Decoder decoder_{io::control_decoder_settings(4)};
-  Eigen::Vector4d u_ = Eigen::Vector4d::Zero();
+  io::Decoder decoder_;
+  Eigen::VectorXd u_;
   int period_ = 0;
   bool delivered_ = false;
 };

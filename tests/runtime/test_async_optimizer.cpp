@@ -56,7 +56,7 @@ class GatedSolver final : public QpSolver {
 };
 
 const ControllerArtifact& artifact() {
-  static const ControllerArtifact a = make_artifact(test::quick_design());
+  static const ControllerArtifact a = test::quick_artifact();
   return a;
 }
 

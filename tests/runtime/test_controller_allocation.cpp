@@ -22,10 +22,10 @@ using test::t_counting;
 
 void expect_no_allocation(const std::string& law) {
   g_allocations = 0;
-  const ControllerArtifact a = make_artifact(test::quick_design());
+  const ControllerArtifact a = test::quick_artifact();
   const Config cfg = test::quick_config();
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
+  ReferenceGenerator traj(model, test::thesis_helix(), cfg.attitude);
   std::vector<std::vector<std::uint8_t>> frames;
   for (int k = 0; k < 130; ++k) {
     const double t = 0.012 * k;
@@ -44,6 +44,7 @@ void expect_no_allocation(const std::string& law) {
     }
   });
   ControllerLoopOptions o;
+  o.trajectory = test::thesis_helix();
   o.tube_law = law;
   o.telemetry_csv = ::testing::TempDir() + "allocation_telemetry.csv";
   const ControllerLoopStats st = run_controller_loop(a, plant, o, stop);

@@ -31,11 +31,12 @@ struct SilentLinkRun {
   std::string telemetry_csv;
 };
 
-SilentLinkRun silent_link_run(const ControllerArtifact& a, const HelixTrajectory& traj) {
+SilentLinkRun silent_link_run(const ControllerArtifact& a, ReferenceGenerator& traj) {
   SilentLinkRun run;
   io::PtyPair pty = io::open_pty_pair();
   auto port = io::open_serial(pty.slave_path);
   ControllerLoopOptions o;
+  o.trajectory = traj.shared_trajectory();
   o.silent_periods = 5;
   o.telemetry_csv = run.telemetry_csv = ::testing::TempDir() + "loop_telemetry.csv";
   std::atomic<bool> stop{false};
@@ -79,10 +80,10 @@ SilentLinkRun silent_link_run(const ControllerArtifact& a, const HelixTrajectory
 }
 
 TEST(ControllerLoopPty, SilentLinkTriggersTheSafeCommandUntilStatesReturn) {
-  const ControllerArtifact a = make_artifact(test::quick_design());
+  const ControllerArtifact a = test::quick_artifact();
   const Config cfg = test::quick_config();
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
+  ReferenceGenerator traj(model, test::thesis_helix(), cfg.attitude);
   SilentLinkRun run;
   for (int attempt = 1; attempt <= 3; ++attempt) {
     run = silent_link_run(a, traj);

@@ -56,15 +56,14 @@ io::ControlFrame control(std::uint32_t session, std::uint32_t seq, const Eigen::
 
 TEST(PlantLoop, LinkLossHoldsTheLastInputThenAppliesTheHoverSafeCommand) {
   const Config cfg = test::quick_config();
-  const Equilibrium eq = solve_hover_equilibrium(TiltrotorModel(cfg.vehicle), cfg.reference.yaw);
+  const Equilibrium eq = solve_hover_equilibrium(TiltrotorModel(cfg.vehicle), cfg.envelope.yaw);
   const Eigen::Vector4d u_hold(eq.u(0) + 0.1, eq.u(1) - 0.1, 0.01, -0.01);
   // Controls for the first 20 periods, then nothing.
   ScriptedController link([&](int k) { return k <= 20 ? control(5, static_cast<std::uint32_t>(k), u_hold) : io::ControlFrame{}; });
   PlantLoopOptions o;
   o.duration_s = 40 * cfg.sample_time;
-  o.disturbance = false;
   std::atomic<bool> stop{false};
-  const PlantLoopStats st = run_plant_loop(cfg, link, o, stop);
+  const PlantLoopStats st = run_plant_loop(PlantSetup::from_config(cfg), test::quiet_helix(), link, o, stop);
   EXPECT_EQ(st.periods, 40);
   EXPECT_EQ(st.controls, 20);
   // plant_hold_s = 0.1 s: 8 periods (96 ms) hold the last input, the 9th is past it.
@@ -81,7 +80,7 @@ TEST(PlantLoop, LinkLossHoldsTheLastInputThenAppliesTheHoverSafeCommand) {
 
 TEST(PlantLoop, ARestartedControllerIsAdoptedAtItsSecondFrame) {
   const Config cfg = test::quick_config();
-  const Equilibrium eq = solve_hover_equilibrium(TiltrotorModel(cfg.vehicle), cfg.reference.yaw);
+  const Equilibrium eq = solve_hover_equilibrium(TiltrotorModel(cfg.vehicle), cfg.envelope.yaw);
   const Eigen::Vector4d u1(eq.u(0), eq.u(1), 0.0, 0.0), u2(eq.u(0) + 0.2, eq.u(1) + 0.2, 0.0, 0.0);
   // Controller 1 (session 11) for 10 periods, controller 2 (session 22, counting from 1) after.
   ScriptedController link([&](int k) {
@@ -89,9 +88,8 @@ TEST(PlantLoop, ARestartedControllerIsAdoptedAtItsSecondFrame) {
   });
   PlantLoopOptions o;
   o.duration_s = 20 * cfg.sample_time;
-  o.disturbance = false;
   std::atomic<bool> stop{false};
-  const PlantLoopStats st = run_plant_loop(cfg, link, o, stop);
+  const PlantLoopStats st = run_plant_loop(PlantSetup::from_config(cfg), test::quiet_helix(), link, o, stop);
   EXPECT_EQ(st.controller_sessions, 2);
   EXPECT_EQ(st.controls, 19);  // all but the new session's first frame
   EXPECT_EQ(st.link[io::Reject::Session], 1);
@@ -101,7 +99,7 @@ TEST(PlantLoop, ARestartedControllerIsAdoptedAtItsSecondFrame) {
 }
 
 const ControllerArtifact& artifact() {
-  static const ControllerArtifact a = make_artifact(test::quick_design());
+  static const ControllerArtifact a = test::quick_artifact();
   return a;
 }
 
@@ -114,35 +112,41 @@ struct RestartRun {
 };
 
 RestartRun restart_run(bool restart_plant, double first_s, double second_s) {
-  const Config cfg = test::quick_config();
+  const PlantSetup setup = PlantSetup::from_config(test::quick_config());
+  const Scenario scenario = test::quiet_helix();
   artifact();  // the design happens once, before either side starts
   io::PtyPair pty = io::open_pty_pair();
   auto port = io::open_serial(pty.slave_path);
   RestartRun r;
   test::StallMonitor monitor;
   PlantLoopOptions po;
-  po.disturbance = false;
+  po.time_scale = test::kWallTimeScale;
   std::atomic<bool> stop_plant{false}, stop_ctrl{false};
   if (restart_plant) {
-    std::thread ctrl([&] { r.ctrl_a = run_controller_loop(artifact(), *port, {}, stop_ctrl); });
+    ControllerLoopOptions co;
+    co.trajectory = scenario.trajectory;
+    co.time_scale = test::kWallTimeScale;
+    std::thread ctrl([&] { r.ctrl_a = run_controller_loop(artifact(), *port, co, stop_ctrl); });
     po.duration_s = first_s;
-    r.plant_a = run_plant_loop(cfg, *pty.master, po, stop_plant);
+    r.plant_a = run_plant_loop(setup, scenario, *pty.master, po, stop_plant);
     // Killed mid-frame: half a state frame of the dead process is left on the line.
     const std::uint8_t partial[] = {0x05, 0x02, 0x01, 0x9a, 0x33};
     pty.master->write_all(partial, sizeof partial);
     po.duration_s = second_s;
-    r.plant_b = run_plant_loop(cfg, *pty.master, po, stop_plant);
+    r.plant_b = run_plant_loop(setup, scenario, *pty.master, po, stop_plant);
     stop_ctrl.store(true);
     ctrl.join();
   } else {
     po.duration_s = first_s + second_s;
     std::atomic<bool> plant_done{false};
     std::thread plant([&] {
-      r.plant_a = run_plant_loop(cfg, *pty.master, po, stop_plant);
+      r.plant_a = run_plant_loop(setup, scenario, *pty.master, po, stop_plant);
       plant_done.store(true);
       stop_ctrl.store(true);
     });
     ControllerLoopOptions co;
+    co.trajectory = scenario.trajectory;
+    co.time_scale = test::kWallTimeScale;
     co.duration_s = first_s;
     r.ctrl_a = run_controller_loop(artifact(), *port, co, stop_ctrl);
     co.duration_s = 0.0;  // a new process (a new session), until the plant's mission ends
@@ -162,10 +166,10 @@ TEST(PlantLoop, AKilledAndRestartedPlantReconnectsAndTheMissionTracksAgain) {
     EXPECT_GE(r.ctrl_a.restarts, 2);
     EXPECT_EQ(r.ctrl_a.peer_session, r.plant_b.session);
     EXPECT_FALSE(r.plant_b.diverged);
-    if (r.host_stall_ms < 6.0) break;
+    if (r.host_stall_ms < 6.0 * test::kWallTimeScale) break;
     std::printf("attempt %d: host stall of %.1f ms; again\n", attempt, r.host_stall_ms);
   }
-  if (r.host_stall_ms >= 6.0) GTEST_SKIP() << "the host stalled threads by " << r.host_stall_ms << " ms in three runs";
+  if (r.host_stall_ms >= 6.0 * test::kWallTimeScale) GTEST_SKIP() << "the host stalled threads by " << r.host_stall_ms << " ms in three runs";
   // The new plant got the law within a few periods and tracks the mission from its start.
   EXPECT_LE(r.plant_b.periods_without_control, 2);
   EXPECT_EQ(r.plant_b.safe_command_periods, 0);
@@ -182,10 +186,10 @@ TEST(PlantLoop, AKilledAndRestartedControllerIsAdoptedAndTheMissionTracksOn) {
     EXPECT_EQ(r.plant_a.controller_sessions, 2);
     EXPECT_NE(r.ctrl_a.session, r.ctrl_b.session);
     EXPECT_FALSE(r.plant_a.diverged);
-    if (r.host_stall_ms < 6.0) break;
+    if (r.host_stall_ms < 6.0 * test::kWallTimeScale) break;
     std::printf("attempt %d: host stall of %.1f ms; again\n", attempt, r.host_stall_ms);
   }
-  if (r.host_stall_ms >= 6.0) GTEST_SKIP() << "the host stalled threads by " << r.host_stall_ms << " ms in three runs";
+  if (r.host_stall_ms >= 6.0 * test::kWallTimeScale) GTEST_SKIP() << "the host stalled threads by " << r.host_stall_ms << " ms in three runs";
   // Between the two processes the plant held the last input, then hovered (its safe
   // command) for as long as the new controller took to start; once its session was
   // adopted (its second frame) every period had a control, and the mission tracks.

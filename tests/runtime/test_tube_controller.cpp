@@ -7,13 +7,14 @@
 #include <random>
 
 #include "../synthesis/design_fixture.hpp"
+#include "tmpc/model/state_layout.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
 
 namespace tmpc {
 namespace {
 
 const ControllerArtifact& artifact() {
-  static const ControllerArtifact a = make_artifact(test::quick_design());
+  static const ControllerArtifact a = test::quick_artifact();
   return a;
 }
 
@@ -25,7 +26,7 @@ struct Flight {
 
 Flight fly(const std::string& law, const Eigen::Vector3d& d, const Eigen::VectorXd& c, int periods) {
   const ControllerArtifact& a = artifact();
-  TubeControllerOptions o = tube_law_options(load_config_from_string(a.config_text, "artifact"), law);
+  TubeControllerOptions o = tube_law_options(a, law);
   TubeController ctrl(a, make_solver("admm", a.qp(o.offset_free)), o);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n);  // normalized error state
   ctrl.reset(x);
@@ -77,7 +78,8 @@ TEST(TubeController, ObserverSkipsAResidualThatIsNotOnePeriod) {
     ctrl.reset(x);
     ctrl.step(x, a.u_eq);
     x(10) = 0.05;  // +5 cm/s in x
-    const SolveResult& r = make_solver("admm", a.qp(true))->solve(ctrl.prepare(x, consecutive));
+    const std::unique_ptr<QpSolver> solver = make_solver("admm", a.qp(true));  // outlives its result r
+    const SolveResult& r = solver->solve(ctrl.prepare(x, consecutive));
     return ctrl.finish(a.u_eq, &r).d_hat;
   };
   const Eigen::Vector3d seen = estimate_after_jump(true), skipped = estimate_after_jump(false);
@@ -95,7 +97,52 @@ TEST(TubeController, RejectsASolverOfTheWrongForm) {
   EXPECT_THROW(TubeController(a, make_solver("admm", a.qp(true)), o), std::invalid_argument);
   o.observer_gain = 0.0;
   EXPECT_THROW(o.validate(), std::invalid_argument);
-  EXPECT_THROW(tube_law_options(Config{}, "kalman"), std::invalid_argument);
+  EXPECT_THROW(tube_law_options(a, "kalman"), std::invalid_argument);
+}
+
+
+// Noisy measurements of the exact linear model with a constant force (the noisy-sensor
+// design's noise: 5 mm, 0.3 degree, 0.031 m/s, 0.033 rad/s): the Kalman filter's force
+// estimate is the force with little noise; the one-step residual observer's is the
+// noise amplified (it differentiates the measurement).
+TEST(TubeController, TheKalmanFilterReadsTheForceThroughNoiseTheResidualObserverCannot) {
+  const ControllerArtifact& a = test::noisy_artifact();
+  const Eigen::Vector3d d(0.6, -0.4, 0.5);
+  const double sigma[4] = {0.005, 0.00524, 0.031, 0.033};
+  auto fly = [&](const std::string& observer, double& mean_error, double& jitter) {
+    TubeControllerOptions o = tube_law_options(a, "offset-free", 0.0, observer);
+    TubeController ctrl(a, make_solver("admm", a.qp(true)), o);
+    std::mt19937_64 rng(8);
+    std::normal_distribution<double> normal;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n);
+    ctrl.reset(x);
+    std::vector<Eigen::Vector3d> tail;
+    for (int k = 0; k < 1000; ++k) {  // 12 s
+      meas = x;
+      for (int i = 0; i < a.measured; ++i) {
+        meas(i) += a.N_x(i) * sigma[static_cast<int>(group_of(a.kinds[static_cast<std::size_t>(i)]))] * normal(rng);
+      }
+      const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq);
+      x = a.A * x + a.B * (s.u - a.u_eq).cwiseProduct(a.N_u) + a.D * d;
+      if (k >= 750) tail.push_back(s.d_hat);
+    }
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& v : tail) mean += v;
+    mean /= static_cast<double>(tail.size());
+    double var = 0.0;
+    for (std::size_t k = 1; k < tail.size(); ++k) var += (tail[k] - tail[k - 1]).squaredNorm();
+    mean_error = (mean - d).cwiseAbs().maxCoeff();
+    jitter = std::sqrt(var / static_cast<double>(tail.size() - 1));  // per-period change of the estimate, N
+  };
+  double kf_error = 0, kf_jitter = 0, res_error = 0, res_jitter = 0;
+  fly("kalman", kf_error, kf_jitter);
+  fly("residual", res_error, res_jitter);
+  std::printf("force estimate over the last 3 s: kalman error %.3f N, change per period %.4f N; residual observer "
+              "error %.3f N, change per period %.3f N\n", kf_error, kf_jitter, res_error, res_jitter);
+  EXPECT_LT(kf_error, 0.1);
+  EXPECT_LT(kf_jitter, 0.05);  // measured 0.033 N; the residual observer 0.94 N
+  EXPECT_GT(res_jitter, 10.0 * kf_jitter);
+  EXPECT_THROW(tube_law_options(artifact(), "", 0.0, "kalman"), std::invalid_argument);  // no filter in that design
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ double energy_from_kinematics(const KinematicTree& tree, double g, const State20
 TEST(ElPlant, ConservesEnergyWithoutDragInputOrDisturbance) {
   VehicleParams p = test::default_config().vehicle;
   p.friction.fill(0.0);
-  ElPlant plant(p, DisturbanceSchedule{}, 0.001);
+  ElPlant plant(p, DisturbanceProfile{}, 0.001);
   const KinematicTree tree(p);
   std::mt19937_64 rng(5);
   for (int trial = 0; trial < 3; ++trial) {
@@ -55,7 +55,7 @@ TEST(ElPlant, ConservesEnergyWithoutDragInputOrDisturbance) {
 
 TEST(ElPlant, StaysAtTheHoverEquilibrium) {
   const Config& cfg = test::default_config();
-  ElPlant plant(cfg.vehicle, DisturbanceSchedule{}, cfg.simulation.substep);
+  ElPlant plant(cfg.vehicle, DisturbanceProfile{}, cfg.simulation.substep);
   const Equilibrium eq = solve_hover_equilibrium(plant.model());
   State20 x0;
   x0 << eq.q(), Vec10::Zero();
@@ -67,9 +67,9 @@ TEST(ElPlant, StaysAtTheHoverEquilibrium) {
 
 /// Largest distance of the load from the helix over 2 s of open-loop feedforward.
 double feedforward_drift(const Config& cfg) {
-  auto plant = make_plant("el", cfg, false, -1);
+  auto plant = make_tiltrotor_plant("el", cfg.vehicle, DisturbanceProfile{}, cfg.simulation.substep);
   const TiltrotorModel model(cfg.vehicle);
-  const HelixTrajectory traj(cfg.reference, model);
+  ReferenceGenerator traj(model, test::thesis_helix(), cfg.attitude);
   State20 x0;
   const ReferencePoint r0 = traj.at(0.0);
   x0 << r0.q, r0.qd;
@@ -93,12 +93,13 @@ TEST(ElPlant, ThesisLiteralReferenceAttitudeLeavesTheHelix) {
   // while the load accelerates makes (5.4) a least-squares fit; its residual drives
   // the open-loop plant off the helix. This is why the trim attitude is the default.
   Config cfg = test::default_config();
-  cfg.reference.attitude = ReferenceAttitude::Equilibrium;
+  cfg.attitude = ReferenceAttitude::Equilibrium;
   EXPECT_GT(feedforward_drift(cfg), 0.1);
 }
 
 TEST(ElPlant, RejectsUnknownPlantKinds) {
-  EXPECT_THROW(make_plant("gazebo", test::default_config(), false, -1), std::invalid_argument);
+  EXPECT_THROW(make_tiltrotor_plant("gazebo", test::default_config().vehicle, DisturbanceProfile{}, 0.001),
+               std::invalid_argument);
 }
 
 }  // namespace

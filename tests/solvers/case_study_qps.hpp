@@ -10,7 +10,7 @@
 namespace tmpc::test {
 
 inline const ControllerArtifact& case_study_artifact() {
-  static const ControllerArtifact a = make_artifact(quick_design());
+  static const ControllerArtifact& a = quick_artifact();
   return a;
 }
 

@@ -20,6 +20,8 @@ os.makedirs(work, exist_ok=True)
 # A quick design (no LMI comparison) of the default config.
 text = open(config).read()
 text = text.replace("compare_gains: true", "compare_gains: false").replace("verify_directions: 2000", "verify_directions: 100")
+scenarios = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios/")  # the envelope's, from the copy
+text = re.sub(r"(?<=[\[\s,])scenarios/", lambda _: scenarios, text)
 quick = os.path.join(work, "quick.yaml")
 open(quick, "w").write(text)
 ctrl = os.path.join(work, "c.tmpc")

@@ -15,7 +15,7 @@ using test::g_allocations;
 
 TEST(SolverAllocation, SolveAllocatesNothing) {
   test::g_count_all = true;  // every thread counts
-  const ControllerArtifact a = make_artifact(test::quick_design());
+  const ControllerArtifact a = test::quick_artifact();
   Eigen::VectorXd x0 = Eigen::VectorXd::Constant(24, 0.01);
   for (const char* name : {"admm", "admm-crash", "admm-thesis", "cz", "reference"}) {
     SolverOptions o;
@@ -35,7 +35,7 @@ TEST(SolverAllocation, SolveAllocatesNothing) {
 
 TEST(SolverAllocation, ExplicitSolveAllocatesNothing) {
   test::g_count_all = true;  // the scan's OpenMP workers count too
-  const ControllerArtifact a = make_artifact(test::quick_design());
+  const ControllerArtifact a = test::quick_artifact();
   ExplicitOptions o;  // a small law is enough: the online path is the same
   o.N = 1;
   o.M = 1;

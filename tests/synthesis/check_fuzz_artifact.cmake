@@ -11,6 +11,8 @@ file(MAKE_DIRECTORY ${OUT}/corpus)
 file(READ ${SRC}/config/tiltrotor.yaml text)
 string(REPLACE "compare_gains: true" "compare_gains: false" text "${text}")
 string(REPLACE "verify_directions: 2000" "verify_directions: 100" text "${text}")
+# The envelope's scenario files, named from the copy's folder.
+string(REGEX REPLACE "([[ ,])scenarios/" "\\1${SRC}/config/scenarios/" text "${text}")
 file(WRITE ${OUT}/quick.yaml "${text}")
 execute_process(COMMAND ${TMPC} design --config ${OUT}/quick.yaml --out ${OUT}/seed.tmpc --report ${OUT}/seed.json
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
@@ -23,7 +25,8 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "extracting the seed payload failed")
 endif()
 set(srcs)
-foreach(f synthesis/artifact synthesis/artifact_checks synthesis/record_file synthesis/lqr model/checksum model/config
+foreach(f synthesis/artifact synthesis/artifact_checks synthesis/record_file synthesis/lqr synthesis/estimator synthesis/rpi
+          model/checksum model/config model/trajectory_yaml model/trajectory model/quintic_spline
           model/dynamics model/kinematic_tree model/equilibrium model/state_layout qp/mpc_qp qp/disturbance_target
           sets/box sets/zonotope)
   list(APPEND srcs ${SRC}/src/${f}.cpp)

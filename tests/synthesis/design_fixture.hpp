@@ -2,10 +2,18 @@
 // comparison (the LMI tests solve their own SDPs) and fewer check directions.
 #pragma once
 
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "../model/test_support.hpp"
+#include "tmpc/model/checksum.hpp"
+#include "tmpc/sim/scenario.hpp"
+#include "tmpc/solvers/soft_penalty.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/design.hpp"
 
@@ -28,6 +36,99 @@ inline Config quick_config() {
 inline const ControllerDesign& quick_design() {
   static const ControllerDesign d = design_controller(quick_config(), default_config_text());
   return d;
+}
+
+/// A shipped scenario by name (config/scenarios/NAME.yaml).
+inline Scenario shipped_scenario(const std::string& name) {
+  return load_scenario(source_dir() + "/config/scenarios/" + name + ".yaml");
+}
+
+/// The thesis mission without its force steps: the helix on the nominal plant.
+inline Scenario quiet_helix() {
+  Scenario s = shipped_scenario("thesis_helix");
+  s.disturbances = DisturbanceProfile{};
+  return s;
+}
+
+/// The second system (config/mass_spring.yaml: two masses on springs, 6 states with
+/// the integrals, 2 inputs) designed through the same synthesis; a fraction of a second.
+inline const ControllerArtifact& mass_spring_artifact() {
+  static const ControllerArtifact a = [] {
+    const std::string path = source_dir() + "/config/mass_spring.yaml";
+    const std::string text = read_config_file(path, "configuration");
+    const Config cfg = load_config_from_string(text, path);
+    ControllerArtifact made = make_artifact(design_controller(cfg, text));
+    apply_soft_penalty(made, cfg.soft_constraints.safety_factor);
+    return made;
+  }();
+  return a;
+}
+
+/// An artifact designed once per test executable build and kept in the build tree
+/// (TMPC_TEST_CACHE_DIR): ctest runs every test in its own process, and most need only
+/// the artifact (a design takes seconds, a minute under the sanitizers). The cache key
+/// is `tag`, the config text's CRC and this executable's modification time, so a
+/// rebuilt test (or library) designs it anew; `make` designs it.
+template <class Make>
+ControllerArtifact cached_artifact(const std::string& tag, const std::string& config_text, Make make) {
+  struct stat st {};
+  const long stamp = ::stat("/proc/self/exe", &st) == 0 ? static_cast<long>(st.st_mtime) : 0;
+  const std::string key =
+      std::to_string(crc32(reinterpret_cast<const std::uint8_t*>(config_text.data()), config_text.size())) + "-" +
+      std::to_string(stamp);
+  char exe[512] = {};
+  const ssize_t len = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
+  std::string name = len > 0 ? std::string(exe, static_cast<std::size_t>(len)) : std::string("test");
+  name = name.substr(name.find_last_of('/') + 1);
+  const std::string prefix = tag + "-" + name + "-";
+  const std::string path = std::string(TMPC_TEST_CACHE_DIR) + "/" + prefix + key + ".tmpc";
+  try {
+    return load_artifact(path);
+  } catch (const ArtifactError&) {
+  }
+  ControllerArtifact made = make();
+  // This executable's earlier caches of `tag` (another config or build) are stale.
+  if (DIR* dir = ::opendir(TMPC_TEST_CACHE_DIR)) {
+    while (const dirent* e = ::readdir(dir)) {
+      const std::string f = e->d_name;
+      if (f.rfind(prefix, 0) == 0 && f.size() > 5 && f.compare(f.size() - 5, 5, ".tmpc") == 0) {
+        std::remove((std::string(TMPC_TEST_CACHE_DIR) + "/" + f).c_str());
+      }
+    }
+    ::closedir(dir);
+  }
+  const std::string tmp = path + "." + std::to_string(::getpid());
+  save_artifact(made, tmp);
+  std::rename(tmp.c_str(), path.c_str());  // atomic: a concurrent reader sees all or nothing
+  return made;
+}
+
+/// The noisy-sensor design (config/tiltrotor_noisy.yaml: Kalman filter, softer tube
+/// gain, soft constraints), quick like quick_config(); cached like quick_artifact().
+inline const ControllerArtifact& noisy_artifact() {
+  static const ControllerArtifact a = [] {
+    const std::string path = source_dir() + "/config/tiltrotor_noisy.yaml";
+    const std::string text = read_config_text(path);
+    return cached_artifact("noisy", text, [&] {
+      Config cfg = load_config_from_string(text, path);
+      cfg.synthesis.compare_gains = false;
+      cfg.synthesis.verify_directions = 200;
+      ControllerArtifact made = make_artifact(design_controller(cfg, text));
+      apply_soft_penalty(made, cfg.soft_constraints.safety_factor);
+      return made;
+    });
+  }();
+  return a;
+}
+
+/// The quick design's artifact (quick_config()), cached in the build tree.
+inline const ControllerArtifact& quick_artifact() {
+  static const ControllerArtifact a = cached_artifact("quick", default_config_text(), [] {
+    ControllerArtifact made = make_artifact(quick_design());
+    apply_soft_penalty(made, quick_design().cfg.soft_constraints.safety_factor);
+    return made;
+  });
+  return a;
 }
 
 }  // namespace tmpc::test

@@ -10,7 +10,7 @@ namespace tmpc {
 namespace {
 
 const std::vector<std::uint8_t>& bytes() {
-  static const std::vector<std::uint8_t> b = serialize_artifact(make_artifact(test::quick_design()));
+  static const std::vector<std::uint8_t> b = serialize_artifact(test::quick_artifact());
   return b;
 }
 
@@ -31,7 +31,7 @@ void fix_crc(std::vector<std::uint8_t>& b) {
 TEST(Artifact, RoundTripIsBitExact) {
   const ControllerArtifact a = deserialize_artifact(bytes(), "t.tmpc");
   EXPECT_EQ(serialize_artifact(a), bytes());
-  const ControllerArtifact& ref = make_artifact(test::quick_design());
+  const ControllerArtifact& ref = test::quick_artifact();
   EXPECT_EQ(a.K, ref.K);
   EXPECT_EQ(a.Z.G, ref.Z.G);
   EXPECT_EQ(a.config_text, ref.config_text);
@@ -83,6 +83,7 @@ TEST(Artifact, FuzzedMutationsAndTruncationsAreNeverAccepted) {
   EXPECT_EQ(rejected, 1300);
 }
 
+
 }  // namespace
 }  // namespace tmpc
 
@@ -103,35 +104,38 @@ void expect_refused(const ControllerArtifact& a, const std::string& record, cons
 
 TEST(ArtifactSemantics, AFreshDesignPassesEveryCheck) { EXPECT_EQ(semantic_error(good()), ""); }
 
+/// check_artifact() on the records in memory (no serialization): "" when they pass.
+std::string check_error(const ControllerArtifact& a) {
+  try {
+    check_artifact(a, "t.tmpc");
+  } catch (const ArtifactError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(ArtifactSemantics, DimensionsTheRuntimeDoesNotSupportAreRefused) {
   ControllerArtifact a = good();
-  a.n = 30;  // the records stay 24-dimensional
-  expect_refused(a, "N_x", "expected 30x1");
-  // A consistent 30-state artifact: every record 30-dimensional.
+  a.n = 30;  // the records stay 24-dimensional: the loader's shape check names one
+  const std::string m = semantic_error(a);
+  EXPECT_NE(m.find("t.tmpc: record '"), std::string::npos) << m;
+  EXPECT_NE(m.find("expected"), std::string::npos) << m;
   a = good();
-  const int n = 30;
-  auto grow = [&](const Eigen::MatrixXd& m, bool square) {
-    Eigen::MatrixXd g = Eigen::MatrixXd::Identity(square ? n : m.rows() == a.n ? n : m.rows(), m.cols() == a.n ? n : m.cols());
-    g.topLeftCorner(m.rows(), m.cols()) = m;
-    return g;
-  };
-  ControllerArtifact b = a;
-  b.n = n;
-  b.N_x = grow(a.N_x, false).col(0);
-  b.N_x.tail(6).setOnes();
-  b.A = grow(a.A, true) * 0.5;
-  b.B = grow(a.B, false);
-  b.D = grow(a.D, false);
-  for (auto& v : b.A_vertices) v = grow(v, true) * 0.5;
-  b.K = grow(a.K, false);
-  b.K_lqr = grow(a.K_lqr, false);
-  b.P_lqr = grow(a.P_lqr, true);
-  b.L = grow(a.L, true);
-  b.Sigma_rho = grow(a.Sigma_rho, true);
-  for (Box* x : {&b.X, &b.x_bar}) *x = Box(grow(x->lo, false).col(0), grow(x->hi, false).col(0));
-  b.Z = Zonotope(grow(a.Z.c, false).col(0), grow(a.Z.G, false));
-  b.W = Zonotope(grow(a.W.c, false).col(0), grow(a.W.G, false));
-  expect_refused(b, "n", "is 30: this build's tiltrotor runtime flies 24 error states");
+  a.n = 60;
+  EXPECT_NE(check_error(a).find("record 'n': is 60, must be in [1, 48]"), std::string::npos) << check_error(a);
+  a = good();
+  a.m = 17;
+  EXPECT_NE(check_error(a).find("record 'm': is 17, must be in [1, 16]"), std::string::npos) << check_error(a);
+  a = good();
+  a.measured = 19;  // a tiltrotor measures 20 states
+  EXPECT_NE(check_error(a).find("the tiltrotor has 24, 20 and 4"), std::string::npos) << check_error(a);
+  a = good();
+  std::swap(a.kinds[0], a.kinds[3]);  // a position where an angle was
+  EXPECT_NE(check_error(a).find("are not the tiltrotor's"), std::string::npos) << check_error(a);
+  a = good();
+  a.kinds[2] = StateKind::Integral;
+  EXPECT_NE(check_error(a).find("integral states come after the 20 measured ones"), std::string::npos)
+      << check_error(a);
 }
 
 TEST(ArtifactSemantics, GainsThatDoNotStabilizeAreRefused) {
@@ -183,10 +187,17 @@ TEST(ArtifactSemantics, RecordsMustAgreeWithTheEmbeddedConfiguration) {
   a.M = 2;
   expect_refused(a, "M", "synthesis.control_horizon is 4");
   // The vehicle edited after the design: the body mass x 1.5 still configures a vehicle
-  // that can hover, but not the one the records were designed for.
+  // that can hover, but not the one the records were designed for; likewise the
+  // vehicle record edited (the runtime's feedforward uses it, not the YAML).
   a = good();
   const std::string from = "mass: 1.7068";
   a.config_text.replace(a.config_text.find(from), from.size(), "mass: 2.5602");
+  expect_refused(a, "vehicle_scalars", "the embedded configuration gives 2.5602");
+  a = good();
+  a.vehicle.body_mass *= 1.5;
+  expect_refused(a, "vehicle_scalars", "is 2.5602, the embedded configuration gives 1.7068");
+  a = good();
+  a.u_eq(0) += 0.5;
   expect_refused(a, "u_eq", "the hover input of the embedded vehicle");
   // x 10 cannot hover within the thrust limits: the embedded configuration is invalid.
   a = good();
@@ -213,6 +224,40 @@ TEST(ArtifactSemantics, SpecialFilesAreClearErrors) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
     }
   }
+}
+
+
+// The noisy-sensor design's records: the Kalman filter and the soft constraints'
+// penalty round-trip, and what they must mean is checked on load.
+TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) {
+  const ControllerArtifact& n = test::noisy_artifact();
+  ASSERT_EQ(n.estimator, "kalman");
+  ASSERT_GT(n.soft_penalty, 0.0);
+  const ControllerArtifact back = deserialize_artifact(serialize_artifact(n), "t.tmpc");
+  EXPECT_EQ(back.estimator_rows, n.estimator_rows);
+  EXPECT_EQ(back.estimator_L, n.estimator_L);
+  EXPECT_EQ(back.estimator_E_c, n.estimator_E_c);
+  EXPECT_EQ(back.soft_penalty, n.soft_penalty);
+  EXPECT_EQ(back.noise_margin, n.noise_margin);
+  EXPECT_EQ(back.estimator_rows.size(), 20u);  // every physical state measured
+  EXPECT_EQ(back.estimator_E_c.cols(), 7);     // the angular-rate rows
+  EXPECT_EQ(check_error(back), "");
+  ControllerArtifact a = back;
+  a.estimator_L *= 40.0;  // a gain whose estimation error diverges
+  EXPECT_NE(check_error(a).find("record 'estimator_L': the estimation error does not converge"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_rows[3] = a.estimator_rows[2];
+  EXPECT_NE(check_error(a).find("record 'estimator_rows'"), std::string::npos) << check_error(a);
+  a = back;
+  a.soft_penalty = 0.0;
+  EXPECT_NE(check_error(a).find("record 'soft_penalty': is 0 with soft constraints on"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator = "residual";  // the embedded configuration says kalman
+  EXPECT_NE(check_error(a).find("record 'estimator'"), std::string::npos) << check_error(a);
+  a = back;
+  a.tube_law.offset_free = false;
+  EXPECT_NE(check_error(a).find("record 'estimator': kalman estimates the offset-free law's disturbance"), std::string::npos)
+      << check_error(a);
 }
 
 }  // namespace

@@ -54,13 +54,14 @@ TEST(Design, EmptyTightenedSetIsAnErrorNamingTheDimension) {
 TEST(Design, NumericalFailuresNameTheConfigSectionTheyCameFrom) {
   Config c = test::quick_config();
   c.source = "fast.yaml";
-  c.reference.angular_rate = 20.0;  // a helix at 2,000 m/s^2: no trim exists
+  c.envelope.trajectories.clear();
+  c.envelope.acceleration_max = Eigen::Vector3d(2000.0, 0.2, 0.15);  // no trim exists at 2,000 m/s^2
   try {
     design_controller(c, "");
     FAIL() << "a design without a trim was accepted";
   } catch (const ConfigError& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("fast.yaml: reference"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("fast.yaml: envelope"), std::string::npos) << msg;
     EXPECT_NE(msg.find("trim"), std::string::npos) << msg;
   }
 }

@@ -17,12 +17,4 @@ enum class Locator { Tree, Scan };
 std::unique_ptr<QpSolver> make_explicit_solver(const ControllerArtifact& a, ExplicitLaw law,
                                                Locator locator = Locator::Tree, int scan_threads = 1);
 
-/// Every solver by name, "explicit" included (its law read from explicit_path and
-/// checked against the artifact). `offset_free`: the QP around the disturbance's
-/// steady state (artifact.qp(true)); the explicit law, a partition over the nominal
-/// state only, refuses it. Throws for an unknown name or a bad file.
-std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const ControllerArtifact& a,
-                                                 const SolverOptions& options, const std::string& explicit_path,
-                                                 bool offset_free = false);
-
 }  // namespace tmpc

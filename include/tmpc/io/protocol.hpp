@@ -31,12 +31,16 @@
 #include <string>
 #include <vector>
 
+#include "tmpc/model/state_layout.hpp"
+
 namespace tmpc::io {
 
 constexpr std::uint8_t kProtocolVersion = 2;
 constexpr std::size_t kMaxStateValues = 48;
 constexpr std::size_t kMaxControlValues = 16;
 constexpr std::size_t kMaxPacket = 512;
+static_assert(kMaxStateValues >= static_cast<std::size_t>(kMaxStates), "a state frame carries every measured state");
+static_assert(kMaxControlValues >= static_cast<std::size_t>(kMaxInputs), "a control frame carries every input");
 
 enum class FrameType : std::uint8_t { State = 1, Control = 2 };
 

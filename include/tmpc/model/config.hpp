@@ -1,6 +1,8 @@
-// The design configuration: vehicle parameters (model spec, set S1 or S2), the
-// helix reference (thesis 6.2), constraints and weights (thesis 5.3), the
-// disturbance schedule (thesis Table 6.1), simulation and solver settings.
+// The design configuration: the plant model (the tiltrotor's vehicle parameters,
+// model spec set S1 or S2, or a linear system), the trajectory envelope, constraints
+// and weights (thesis 5.3), synthesis, solver, tube-law and link settings. A flight
+// (trajectory, disturbances, noise, plant parameters) is a scenario file apart
+// (sim/scenario.hpp).
 //
 // Every number of the case study lives in config/tiltrotor.yaml; nothing here has
 // a case-study default. load_config() validates everything and throws ConfigError
@@ -14,6 +16,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "tmpc/model/state_layout.hpp"
 
 namespace tmpc {
 
@@ -61,17 +65,19 @@ enum class ReferenceAttitude {
   Equilibrium,  ///< thesis-literal: held at the hover equilibrium; (5.4) then has a residual
 };
 
-/// Helix reference, thesis section 6.2:
-/// x = cx + r cos(w t), y = cy + r sin(w t), z = z0 - a cos(w t), psi = psi_r.
-struct HelixReference {
-  double radius = 0.0;       // m
-  double center_x = 0.0;     // m
-  double center_y = 0.0;     // m
-  double z_offset = 0.0;     // m
-  double z_amplitude = 0.0;  // m
-  double angular_rate = 0.0; // rad/s (pi/40 in the thesis)
-  double yaw = 0.0;          // rad
-  ReferenceAttitude attitude = ReferenceAttitude::Trim;
+/// The trajectories a design flies (DESIGN.md 2, issue "missions as data"): the LPV
+/// vertices span the acceleration box (thesis (5.8): sigma = the load's reference
+/// acceleration), the input box is tightened for every feedforward over it, and
+/// `tmpc check` refuses a trajectory that leaves it. With `trajectories` (scenario
+/// files) the box is the range of their accelerations, widened by `margin`.
+struct EnvelopeSettings {
+  Eigen::Vector3d acceleration_min = Eigen::Vector3d::Zero();  // m/s^2
+  Eigen::Vector3d acceleration_max = Eigen::Vector3d::Zero();
+  double speed_max = 0.0;       // m/s
+  double yaw = 0.0;             // rad: the yaw every trajectory flies at
+  double yaw_tolerance = 0.0;   // rad
+  std::vector<std::string> trajectories;  // scenario files (paths relative to the config)
+  double margin = 0.1;          // relative widening of the box from `trajectories`
 };
 
 /// A constant force on the load switched on at `time` (thesis Table 6.1).
@@ -91,15 +97,13 @@ struct PerturbationSettings {
 enum class Discretization { Zoh, Euler };
 
 struct SimulationSettings {
-  double duration = 0.0;   // s, mission length
   double substep = 0.0;    // s, RK4 step of the plant
-  std::string plant;       // "el" (Euler-Lagrange) or "mujoco"
 };
 
 /// Settings for the linear error model (thesis 5.2).
 struct ErrorModelSettings {
   Discretization discretization = Discretization::Zoh;
-  double lpv_sample_step = 0.0;  // s, sampling of the reference for the affinity check
+  int envelope_grid = 0;  // points per axis of the acceleration box for the feedforward range and the affinity report
 };
 
 struct SolverSettings {
@@ -114,9 +118,37 @@ struct TubeLawSettings {
   double observer_gain = 0.1;   // beta in (0, 1]
 };
 
+/// State estimation (optional section `estimation`; DESIGN.md 5b): which observer the
+/// offset-free law uses and what it is designed for. Without the section: the one-step
+/// residual observer of `tube_law`, every measured state, no output-feedback tube.
+struct EstimationSettings {
+  std::string observer = "residual";  ///< "residual" | "kalman"
+  std::string measured = "all";       ///< "all" | "positions_angles_rates" (no linear velocities)
+  /// Standard deviations of the measurement noise per state group (position m, angle
+  /// rad, velocity m/s, angular rate rad/s): the Kalman filter's R.
+  std::array<double, 4> noise{};
+  double process_state_fraction = 3e-5;  ///< Q of the states: (fraction x half-width)^2 per step
+  double process_force = 0.02;           ///< Q of the disturbance (N per step, random walk)
+  double process_residual = 1e-3;        ///< Q of the residual channels (normalized per step)
+  bool output_feedback_tube = false;     ///< tighten by the estimation error set too
+  double noise_bound_sigmas = 3.0;       ///< the tube's noise box: this many standard deviations
+  double force_rate_bound = 0.02;        ///< the tube's bound on the force's change per step, N
+  double residual_rate_bound = 0.0;      ///< the tube's bound on the residuals' change per step (normalized)
+};
+
+/// Soft state constraints (optional section `soft_constraints`; DESIGN.md 5b): an
+/// infeasible QP is solved again with the state constraints softened by an exact L1
+/// penalty (parametric_qp.hpp), inputs hard, instead of falling back to the LQR law.
+struct SoftConstraintSettings {
+  bool enabled = false;
+  double penalty = 0.0;         ///< rho of the penalty (normalized); 0: from the design's multipliers
+  double safety_factor = 10.0;  ///< automatic rho = this x the largest sum of multipliers sampled
+};
+
 /// Offline synthesis (thesis ch. 3; DESIGN.md section 4).
 struct SynthesisSettings {
   std::string tube_gain;        // "lqr" | "lmi_thesis" | "lmi_robust"
+  Eigen::VectorXd lqr_input_scale;  // the LQR tube gain's input weights: this times lambda (m; ones: the thesis')
   bool compare_gains = true;    // compute every gain's tube for the report
   std::string lmi_lambda;       // "search" or a number in (0, 1)
   double lmi_w_floor = 0.0;     // W >= w_floor I (normalized coordinates)
@@ -125,11 +157,12 @@ struct SynthesisSettings {
   std::string rpi_variant;      // "lti" | "lpv_thesis" | "lpv_robust"
   double rpi_lambda = 0.0;      // relative error bound of (3.34)
   std::string w_source;         // "box" | "sampled"
-  Eigen::Matrix<double, 24, 1> w_state_fraction;  // W_u half-widths / state half-widths
-  Eigen::Vector3d w_disturbance = Eigen::Vector3d::Zero();  // N, half-widths of D (W_d = D_z D)
+  Eigen::VectorXd w_state_fraction;  // W_u half-widths / state half-widths (n entries)
+  Eigen::VectorXd w_disturbance;  // half-widths of the disturbance box D, one per disturbance channel (W_d = D_z D)
   int w_samples = 0;            // sampled W: number of samples
   double w_sample_fraction = 0.0;  // sampled W: mass/inertia perturbation
   double w_sample_box = 0.0;    // sampled W: error states drawn in this fraction of the state box
+  unsigned w_seed = 1;          // sampled W: random seed
   std::string terminal_cost;    // "lqr" | "lmi"
   int horizon = 0;              // N
   int control_horizon = 0;      // M <= N
@@ -165,24 +198,53 @@ struct LinkSettings {
   int sequence_window = 1000;       ///< sequence numbers accepted ahead of the last one
 };
 
+/// The plant model a design is for: the tiltrotor (section `vehicle`, the default) or
+/// a linear system given by its matrices (section `linear`), which regulates to the
+/// origin; both go through the same synthesis and runtime.
+enum class ModelKind { Tiltrotor, Linear };
+
+/// x' = A x + B u + D d (continuous, physical units) with its states' names and kinds
+/// and the measured states whose errors get integral states (thesis (5.6)).
+struct LinearModelSpec {
+  Eigen::MatrixXd A, B, D;
+  std::vector<std::string> state_names, input_names;
+  std::vector<StateKind> kinds;
+  std::vector<int> integrated;  ///< indices of measured states
+};
+
 struct Config {
   std::string source;  // file the config came from (for messages)
-  VehicleParams vehicle;
-  HelixReference reference;
+  ModelKind model = ModelKind::Tiltrotor;
+  VehicleParams vehicle;     // model tiltrotor
+  LinearModelSpec linear;    // model linear
+  ReferenceAttitude attitude = ReferenceAttitude::Trim;  // section `reference`
+  EnvelopeSettings envelope;
   double sample_time = 0.0;  // s, T
-  Eigen::Vector4d input_min, input_max;              // absolute actuator limits
-  Eigen::Matrix<double, 24, 1> state_error_max;      // half-widths of the error box X
-  Eigen::Vector4d input_weights;                     // lambda (Sigma_lambda)
-  Eigen::Matrix<double, 24, 1> state_weights;        // rho (Sigma_rho)
-  std::vector<DisturbanceStep> disturbances;
-  PerturbationSettings perturbation;
+  Eigen::VectorXd input_min, input_max;   // absolute actuator limits (m)
+  Eigen::VectorXd state_error_max;        // half-widths of the error box X (n)
+  Eigen::VectorXd input_weights;          // lambda (Sigma_lambda)
+  Eigen::VectorXd state_weights;          // rho (Sigma_rho)
   SimulationSettings simulation;
   ErrorModelSettings error_model;
   SolverSettings solver;
   TubeLawSettings tube_law;       // optional section `tube_law` (defaults above)
+  EstimationSettings estimation;  // optional section `estimation` (defaults above)
+  SoftConstraintSettings soft_constraints;  // optional section `soft_constraints`
   SynthesisSettings synthesis;
   ExplicitSettings explicit_mpc;  // optional section `explicit` (defaults above)
   LinkSettings link;              // optional section `link` (defaults above)
+
+  /// Measured states (20 for the tiltrotor: q, q'), integral states, all states, inputs.
+  int measured() const;
+  int integrals() const;
+  int states() const { return measured() + integrals(); }
+  int inputs() const;
+  /// The measured states whose errors are integrated (tiltrotor: x, y, z, psi).
+  std::vector<int> integrated() const;
+  /// Names and kinds of the n error states, the names of the inputs.
+  std::vector<std::string> state_names() const;
+  std::vector<StateKind> state_kinds() const;
+  std::vector<std::string> input_names() const;
 };
 
 /// Largest horizon N (and M) a configuration or an artifact may give: the condensed
@@ -193,6 +255,11 @@ constexpr long kMaxConfigBytes = 1 << 20;
 
 /// Load and validate a YAML config. Throws ConfigError naming file and key.
 Config load_config(const std::string& path);
+/// The text of a configuration file with its `base` resolved: a file with the key
+/// `base: FILE` (relative to it) is that file with its own keys laid over it, mapping
+/// by mapping (a value replaces, a mapping merges); up to 4 levels. Without `base`,
+/// the file's text as written. This is the text a design embeds in its artifact.
+std::string read_config_text(const std::string& path);
 /// Same from a string (tests); `source` names it in messages.
 Config load_config_from_string(const std::string& yaml, const std::string& source);
 /// The text of a YAML file for a loader: a regular file of at most kMaxConfigBytes

@@ -56,10 +56,16 @@ class TiltrotorModel {
   /// L_ab = [I3; 0]: the disturbance is a force on the load in inertial axes.
   Eigen::Matrix<double, kNq, kNd> disturbance_matrix() const;
 
+  /// Generalized force of a force F (inertial axes) on the main body at its centre of
+  /// mass: Jv_body(q)' F.
+  Vec10 body_force(const Vec10& q, const Eigen::Vector3d& F) const;
   /// q'' from (5.2).
   Vec10 acceleration(const Vec10& q, const Vec10& qd, const Eigen::Vector4d& u, const Eigen::Vector3d& d) const;
   /// x' = f(x, u, d) from (5.3), x = (q, q').
   State20 state_derivative(const State20& x, const Eigen::Vector4d& u, const Eigen::Vector3d& d) const;
+  /// The same with a force also on the main body (inertial axes, at its centre of mass).
+  State20 state_derivative(const State20& x, const Eigen::Vector4d& u, const Eigen::Vector3d& d_load,
+                           const Eigen::Vector3d& f_body) const;
   /// Exact Jacobians of f by forward-mode automatic differentiation.
   Linearization linearize(const State20& x, const Eigen::Vector4d& u, const Eigen::Vector3d& d) const;
 
@@ -78,5 +84,9 @@ class TiltrotorModel {
   VehicleParams params_;
   KinematicTree tree_;
 };
+
+/// One classical RK4 step of x' = f(x, u, d_load, f_body) over h.
+State20 rk4_step(const TiltrotorModel& model, const State20& x, const Eigen::Vector4d& u, const Eigen::Vector3d& d_load,
+                 const Eigen::Vector3d& f_body, double h);
 
 }  // namespace tmpc

@@ -39,7 +39,16 @@ struct Trim {
 };
 
 /// Trim for load acceleration `sigma` and velocity `velocity` at yaw `yaw`,
-/// starting from `start` (e.g. the hover equilibrium). Throws when it fails.
+/// starting from `start` (e.g. the hover equilibrium, or a neighbouring trim). Throws
+/// std::runtime_error when it fails.
+Trim solve_trim(const TiltrotorModel& model, const Eigen::Vector3d& sigma, const Eigen::Vector3d& velocity,
+                double yaw, const Trim& start, double tolerance = 1e-10);
+/// The same without throwing: false (and `out` untouched) when it does not converge.
+/// No allocation: the real-time path's version.
+bool try_solve_trim(const TiltrotorModel& model, const Eigen::Vector3d& sigma, const Eigen::Vector3d& velocity,
+                    double yaw, const Trim& start, Trim& out, double tolerance = 1e-10);
+/// The hover equilibrium as a trim's start point (zero attitude).
+Trim trim_start(const Equilibrium& e);
 Trim solve_trim(const TiltrotorModel& model, const Eigen::Vector3d& sigma, const Eigen::Vector3d& velocity,
                 double yaw, const Equilibrium& start, double tolerance = 1e-10);
 

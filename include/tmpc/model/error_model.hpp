@@ -1,16 +1,16 @@
-// Linear error model along the helix, thesis section 5.2:
+// Linear error model of the design (thesis section 5.2), for any model:
 //   x_tilde' = A(sigma) x_tilde + B u_tilde + D d                            (5.5)
-//   sigma = xi_r'' (3 parameters). With the thesis-literal reference attitude u_r is
-//   affine in sigma, hence so is A (at q_r' = 0); with the trim attitude (default)
-//   it nearly is. A(sigma) = A_0 + sum_i sigma_i A_i with A_0 at sigma = 0 and A_i
-//   the secant of A over sigma_i's range; vertices at the 8 corners of sigma's box
-//   augmented with the integrals of the x, y, z, psi errors:                 (5.6)-(5.7)
+// Tiltrotor: linearized at the trim for the load's reference acceleration sigma (the
+//   LPV parameter, 3 entries), A(sigma) = A_0 + sum_i sigma_i A_i with A_0 at sigma = 0
+//   and A_i the secant of A over the envelope's range of sigma_i; vertices at the 8
+//   corners of the envelope's box; the feedforward's range over a grid of the box.
+// Linear model: A, B, D as configured (LTI: no vertices, u_r = 0).
+// Both augmented with the integrals of the configured errors (5.6)-(5.7):
 //   A_a = [A 0; C 0], B_a = [B; 0], D_a = [D; 0]
-//   discrete: exact ZOH (default) or Euler A_z = I + A_a T (thesis (5.8), E1)
-//   normalized: x_n = N_x x, u_n = N_u u, A_n = N_x A_z N_x^-1,
-//               B_n = N_x B_z N_u^-1                                           (5.10)-(5.11)
-// The model says how affine A really is: the true A(t) along the helix (with the
-// reference velocity) against A_0 + sum sigma_i(t) A_i.
+// discrete: exact ZOH (default) or Euler A_z = I + A_a T (thesis (5.8), E1)
+// normalized: x_n = N_x x, u_n = N_u u, A_n = N_x A_z N_x^-1, B_n = N_x B_z N_u^-1 (5.10)-(5.11)
+// The report says how affine A really is over the envelope: the true A(sigma) at the
+// grid points against A_0 + sum sigma_i A_i.
 #pragma once
 
 #include <vector>
@@ -23,64 +23,64 @@
 
 namespace tmpc {
 
-constexpr int kNa = 24;  ///< augmented error states
+constexpr int kNa = 24;  ///< the tiltrotor's augmented error states
 
 using Mat20 = Eigen::Matrix<double, kNx, kNx>;
-using Mat24 = Eigen::Matrix<double, kNa, kNa>;
-using Vec24 = Eigen::Matrix<double, kNa, 1>;
-using Mat24x4 = Eigen::Matrix<double, kNa, kNu>;
-using Mat24x3 = Eigen::Matrix<double, kNa, kNd>;
 
-/// Continuous LPV model of the 20 mechanical error states.
+/// Continuous LPV model of the tiltrotor's 20 mechanical error states.
 struct LpvModel {
   Mat20 A0;                                ///< A at sigma = 0 (hover)
   std::vector<Mat20> A_sigma;              ///< A_i: secant slope over sigma_i's range, i = x, y, z
   Eigen::Matrix<double, kNx, kNu> B;       ///< at sigma = 0 (thesis: constant)
   Eigen::Matrix<double, kNx, kNd> D;
-  Eigen::Vector3d sigma_min, sigma_max;    ///< box of the reference acceleration
+  Eigen::Vector3d sigma_min, sigma_max;    ///< box of the reference acceleration (the envelope)
   std::vector<Eigen::Vector3d> vertex_sigma;  ///< 8 corners
-  double affinity_residual = 0.0;          ///< max_t ||A(t) - A_lpv(sigma(t))||_F / ||A0||_F
-  double affinity_residual_relative = 0.0; ///< same, relative to max_t ||A(t) - A0||_F
-  double sigma_part = 0.0;                 ///< max_t ||A_lpv(sigma(t)) - A0||_F / ||A0||_F
-  double b_variation = 0.0;                ///< max_t ||B(t) - B||_F / ||B||_F (0 for the literal attitude)
+  double affinity_residual = 0.0;          ///< max ||A(sigma) - A_lpv(sigma)||_F / ||A0||_F over the grid
+  double affinity_residual_relative = 0.0; ///< same, relative to max ||A(sigma) - A0||_F
+  double sigma_part = 0.0;                 ///< max ||A_lpv(sigma) - A0||_F / ||A0||_F
+  double b_variation = 0.0;                ///< max ||B(sigma) - B||_F / ||B||_F
   Mat20 at(const Eigen::Vector3d& sigma) const;
 };
 
-/// Discrete augmented error model with its normalization.
+/// Discrete augmented error model with its normalization (n states, m inputs, nd
+/// disturbance channels).
 struct ErrorModel {
   double sample_time = 0.0;
   Discretization discretization = Discretization::Zoh;
-  Equilibrium equilibrium;
-  LpvModel lpv;
+  int measured = 0, n = 0, m = 0, nd = 0;
+  std::vector<int> integrated;    ///< the measured states whose errors are integrated
+  Equilibrium equilibrium;        ///< tiltrotor: the hover at the envelope's yaw
+  LpvModel lpv;                   ///< tiltrotor only
 
-  Mat24 A_c;                      ///< continuous augmented A_a at sigma = 0
-  Mat24x4 B_c;
-  Mat24x3 D_c;
-  Mat24 A;                        ///< discrete nominal A_z (sigma = 0)
-  std::vector<Mat24> A_vertices;  ///< discrete A_z at the 8 vertices
-  Mat24x4 B;                      ///< discrete B_z
-  Mat24x3 D;                      ///< discrete D_z
+  Eigen::MatrixXd A_c, B_c, D_c;  ///< continuous augmented model at sigma = 0
+  Eigen::MatrixXd A, B, D;        ///< discrete nominal
+  std::vector<Eigen::MatrixXd> A_vertices;  ///< discrete A at the 8 vertices (none: LTI)
 
-  Vec24 N_x;                      ///< diagonal of N_x = 1 / state half-widths
-  Eigen::Vector4d N_u;            ///< diagonal of N_u = 2 / (u_max - u_min)
-  Mat24 A_n;                      ///< normalized nominal
-  std::vector<Mat24> A_n_vertices;
-  Mat24x4 B_n;
-  Mat24x3 D_n;                    ///< normalized states per newton: N_x D_z
+  Eigen::VectorXd N_x;            ///< diagonal of N_x = 1 / state half-widths
+  Eigen::VectorXd N_u;            ///< diagonal of N_u = 2 / (u_max - u_min)
+  Eigen::MatrixXd A_n, B_n, D_n;  ///< normalized (D_n: normalized states per unit of d)
+  std::vector<Eigen::MatrixXd> A_n_vertices;
 
-  Eigen::Vector4d u_r_min, u_r_max;            ///< range of u_r along the mission
-  Eigen::Vector4d input_error_min, input_error_max;  ///< u_min - min u_r, u_max - max u_r
+  Eigen::VectorXd u_r_min, u_r_max;                  ///< range of the feedforward over the envelope
+  Eigen::VectorXd input_error_min, input_error_max;  ///< u_min - max u_r, u_max - min u_r
 };
 
-/// Linearize along the helix of `cfg`, build the LPV form, augment, discretize and normalize.
-ErrorModel build_error_model(const Config& cfg, const TiltrotorModel& model);
+/// Build the error model of the config's plant model over its envelope. Throws
+/// ConfigError naming the section for an envelope without trims or a trajectory of
+/// `envelope.trajectories` outside the configured box.
+ErrorModel build_error_model(const Config& cfg);
 
-/// Augment a 20-state continuous (A, B, D) with the integrals of x, y, z, psi (5.6).
-void augment_with_integrals(const Mat20& A, const Eigen::Matrix<double, kNx, kNu>& B,
-                            const Eigen::Matrix<double, kNx, kNd>& D, Mat24& Aa, Mat24x4& Ba, Mat24x3& Da);
+/// The envelope of the config: the configured box, or (with `trajectories` and no box)
+/// the range of those trajectories' accelerations and speeds widened by `margin`.
+EnvelopeSettings resolve_envelope(const Config& cfg);
+
+/// Augment a continuous (A, B, D) with the integrals of the errors of `integrated` (5.6).
+void augment_with_integrals(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& D,
+                            const std::vector<int>& integrated, Eigen::MatrixXd& Aa, Eigen::MatrixXd& Ba,
+                            Eigen::MatrixXd& Da);
 
 /// Discretize x' = A x + B u + D d with sample time T.
-void discretize(const Mat24& Ac, const Mat24x4& Bc, const Mat24x3& Dc, double T, Discretization method, Mat24& A,
-                Mat24x4& B, Mat24x3& D);
+void discretize(const Eigen::MatrixXd& Ac, const Eigen::MatrixXd& Bc, const Eigen::MatrixXd& Dc, double T,
+                Discretization method, Eigen::MatrixXd& A, Eigen::MatrixXd& B, Eigen::MatrixXd& D);
 
 }  // namespace tmpc

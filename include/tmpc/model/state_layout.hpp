@@ -10,6 +10,11 @@
 
 namespace tmpc {
 
+/// Largest state and input counts a design may have: every state (measured and
+/// integral) fits a telemetry record, every measured one a serial state frame.
+constexpr int kMaxStates = 48;
+constexpr int kMaxInputs = 16;
+
 enum class StateKind : std::uint8_t { Position = 0, Angle = 1, Yaw = 2, Velocity = 3, AngularRate = 4, Integral = 5 };
 const char* to_string(StateKind k);
 /// The kind named by to_string(); throws std::invalid_argument for another name.

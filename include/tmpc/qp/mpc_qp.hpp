@@ -14,6 +14,8 @@
 // is the same one in coordinates around the steady state of d:
 //   x_hat - X_s = P (u_hat - U_s) + Q (x0 - x_s) + Phi c,  Phi = [I; I + A; ...; sum A^i],
 //   bounds [U_bar - U_s; X_bar - X_s - Q (x0 - x_s) - Phi c], F's c block 2 P'W_x Phi.
+// Softened form (soft_penalty > 0, parametric_qp.hpp): the state constraints with an
+// exact L1 penalty on one slack per state, shared by the horizon; inputs stay hard.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,6 +33,11 @@ struct MpcQpData {
   Eigen::MatrixXd H, F;            ///< condensed Hessian and linear-term map
   Eigen::MatrixXd Tx, Tu;          ///< offset-free targets x_s = Tx d, u_s = Tu d (nd = 0: none)
   Eigen::MatrixXd Phi;             ///< offset-free: response of x_hat to the constant c (N n x n)
+  /// Softened state constraints: rho of the exact L1 penalty rho 1's on the slacks
+  /// (0: hard constraints). Exact (no slack while the hard QP is feasible) when rho
+  /// exceeds every state's sum of multipliers over the horizon (design.hpp computes it).
+  double soft_penalty = 0.0;
+  bool soft() const { return soft_penalty > 0.0; }
   int variables() const { return M * m; }
   int disturbances() const { return static_cast<int>(Tx.cols()); }
   bool offset_free() const { return disturbances() > 0; }

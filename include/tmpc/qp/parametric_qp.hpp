@@ -4,6 +4,13 @@
 // lo = hi are equalities. Instances are formed without allocation (bounds_into).
 // In the offset-free form the parameter x0 is (x_bar - x_s, d_hat) and E = [Q Tx-stack;
 // Tu-stack] on its two parts (mpc_qp.hpp); nx() counts both.
+// Softened form (MpcQpData::soft()): z = (u_hat, s) with one slack s_i >= 0 per state,
+// shared by the N stages, and the exact L1 penalty (Fletcher's l1QP):
+//   min 1/2 u'H u + f'u + rho 1's + eps/2 s's
+//   s.t. U_bar (inputs, hard);  x_k,i - s_i <= hi_k,i;  x_k,i + s_i >= lo_k,i;  s >= 0
+// rows: M m inputs, N n upper, N n lower (one-sided: the other bound infinite), n slacks.
+// eps = 1e-8 of H's largest diagonal keeps the Hessian positive definite; it does not
+// move the solution while no slack is used.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,11 +22,16 @@ namespace tmpc {
 struct ParametricQp {
   Eigen::MatrixXd H, F, A, E;
   Eigen::VectorXd f0, lo0, hi0;
+  int slacks = 0;  ///< softened form: the last `slacks` entries of z (0: hard)
   int nz() const { return static_cast<int>(H.rows()); }
   int nc() const { return static_cast<int>(A.rows()); }
   int nx() const { return static_cast<int>(F.cols()); }
 
+  /// The MPC data's QP (softened when d.soft()).
   static ParametricQp from_mpc(const MpcQpData& d);
+  /// The softened form of a hard MPC QP whose last N n rows are the state constraints
+  /// (see above). Throws std::invalid_argument for a non-positive penalty or sizes.
+  static ParametricQp soften(const ParametricQp& hard, int N, int n, double penalty);
   /// f = f0 + F x0, lo = lo0 - E x0, hi = hi0 - E x0 into preallocated vectors.
   void instance_into(const Eigen::VectorXd& x0, Eigen::VectorXd& f, Eigen::VectorXd& lo, Eigen::VectorXd& hi) const;
   CondensedQp instance(const Eigen::VectorXd& x0) const;

@@ -15,10 +15,12 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "tmpc/io/protocol.hpp"
 #include "tmpc/io/serial_port.hpp"
+#include "tmpc/model/trajectory.hpp"
 #include "tmpc/runtime/async_optimizer.hpp"
 #include "tmpc/runtime/loop_clock.hpp"
 #include "tmpc/runtime/realtime.hpp"
@@ -27,6 +29,7 @@
 namespace tmpc {
 
 struct ControllerLoopOptions {
+  std::shared_ptr<const Trajectory> trajectory;  ///< what to fly (checked against the envelope first)
   std::string solver = "admm";
   std::string explicit_law;          ///< for solver "explicit"
   std::string tube_law;              ///< "" (the config's), "mayne" or "offset-free"
@@ -36,11 +39,17 @@ struct ControllerLoopOptions {
   RealTimeSettings realtime;
   std::string telemetry_csv;         ///< empty: no telemetry file
   std::uint32_t session = 0;         ///< this process's session id on the link; 0: drawn at start
+  /// Wall-clock seconds per second of mission time (>= 1): the period and the deadline
+  /// stretch by it, the mission's own times do not. 1 on a vehicle; more for a
+  /// slow-motion hardware-in-the-loop run on a machine that cannot keep the period (a
+  /// sanitizer build, a debugger), with the plant given the same scale.
+  double time_scale = 1.0;
 };
 
 struct ControllerLoopStats {
   long periods = 0, states = 0, optimizer_used = 0, late = 0, busy = 0, fallback_periods = 0;
   long safe_periods = 0, clipped_periods = 0, send_failures = 0;
+  long softened_periods = 0;  ///< the hard QP was infeasible and the softened QP flew
   long skipped = 0;   ///< period boundaries the loop slept through (woken a period late or more)
   long restarts = 0;  ///< law restarts: first state, new sessions of the plant, re-anchored tracks
   int watchdog_periods = 0;

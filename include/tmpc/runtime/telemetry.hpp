@@ -11,26 +11,39 @@
 #include <thread>
 #include <vector>
 
+#include "tmpc/model/state_layout.hpp"
+
 namespace tmpc {
 
+/// One period of the loop, sized for the largest design (kMaxStates, kMaxInputs); the
+/// writer prints the first n (states), p (measured) and m (inputs) entries.
 struct TelemetryRecord {
   std::uint64_t period = 0;
-  double t = 0.0;              ///< s since the loop started
-  double x[24] = {};           ///< error state x_tilde (physical)
-  double ref[10] = {};         ///< reference q_r
-  double x_bar[24] = {};       ///< nominal state (normalized)
-  double u_bar[4] = {};        ///< u_bar(0), physical error units
-  double u[4] = {};            ///< applied input (physical)
+  double t = 0.0;                      ///< s since the loop started
+  double x[kMaxStates] = {};           ///< error state x_tilde (physical)
+  double ref[kMaxStates] = {};         ///< reference of the measured states x_r
+  double x_bar[kMaxStates] = {};       ///< nominal state (normalized)
+  double u_bar[kMaxInputs] = {};       ///< u_bar(0), physical error units
+  double u[kMaxInputs] = {};           ///< applied input (physical)
   std::int32_t status = 0;     ///< SolveStatus
   std::int32_t iterations = 0;
   double solve_us = 0.0;
   double wake_latency_us = 0.0;  ///< actual minus planned wake-up
   double period_us = 0.0;        ///< since the previous wake-up (jitter = period_us - T)
   std::uint8_t fallback = 0, clipped = 0, in_tube = 1, safe_command = 0;
-  double d_hat[3] = {};          ///< offset-free: estimated force on the load, N
+  double d_hat[3] = {};          ///< offset-free: the estimated disturbance (tiltrotor: force on the load, N)
   std::int32_t link_rejects[9] = {};  ///< state frames rejected so far, by io::Reject
   std::uint32_t peer_session = 0;     ///< the plant's session on the link
   std::uint8_t restart = 0;           ///< the law restarted from this period's state
+  std::uint8_t softened = 0;          ///< the softened QP's input (the hard QP was infeasible)
+  double slack_max = 0.0;             ///< its largest slack (physical units of its state)
+};
+
+/// The columns of a telemetry file: the artifact's state and input names.
+struct TelemetryLayout {
+  std::vector<std::string> state_names, input_names;
+  int measured = 0;
+  int disturbances = 0;  ///< d_hat entries (at most 3)
 };
 
 /// Lock-free ring for one producer and one consumer; capacity rounded up to a power of 2.
@@ -68,8 +81,9 @@ class SpscRing {
 
 class TelemetryWriter {
  public:
-  /// Opens `path` (CSV with a header) and starts the writer thread. Throws on open failure.
-  TelemetryWriter(const std::string& path, std::size_t capacity = 1 << 14);
+  /// Opens `path` (CSV with a header of `layout`'s names) and starts the writer thread.
+  /// Throws on open failure or a layout beyond the record's sizes.
+  TelemetryWriter(const std::string& path, TelemetryLayout layout, std::size_t capacity = 1 << 12);
   ~TelemetryWriter();  ///< drains the ring, flushes, closes
   TelemetryWriter(const TelemetryWriter&) = delete;
   TelemetryWriter& operator=(const TelemetryWriter&) = delete;
@@ -84,6 +98,7 @@ class TelemetryWriter {
  private:
   void run();
   void write(const TelemetryRecord& r);
+  TelemetryLayout layout_;
   std::FILE* f_ = nullptr;
   SpscRing<TelemetryRecord> ring_;
   std::atomic<std::uint64_t> pushed_{0}, dropped_{0}, written_{0};

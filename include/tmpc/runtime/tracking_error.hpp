@@ -1,36 +1,36 @@
-// The error state of the tube controller, thesis (5.5)-(5.7): x_tilde = (q - q_r,
-// q' - q_r', integrals of the x, y, z, psi errors), psi wrapped to (-pi, pi].
+// The error state of the tube controller, thesis (5.5)-(5.7): x_tilde = (x - x_r for
+// the measured states, yaw differences wrapped to (-pi, pi], then the integrals of the
+// configured errors: the tiltrotor's x, y, z, psi), sized by the artifact.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
-#include "tmpc/model/dynamics.hpp"
-#include "tmpc/model/reference.hpp"
+#include "tmpc/model/state_layout.hpp"
 
 namespace tmpc {
 
-/// Name of error state i: the coordinate ("x", "gamma_1"), its rate ("d_x"), or an
-/// integral ("int_x", "int_psi").
-std::string error_state_name(int i);
-
 class TrackingError {
  public:
-  TrackingError() : xt_(Eigen::VectorXd::Zero(24)) {}
-  /// x_tilde at the measured state x (q, q') and the reference point r; no allocation.
-  const Eigen::VectorXd& update(const State20& x, const ReferencePoint& r);
-  /// The measured part of x_tilde (q - q_r, q' - q_r', psi wrapped; 20 entries) into
-  /// `e` (sized 20), without touching the integrals. No allocation.
-  static void measured(const State20& x, const ReferencePoint& r, Eigen::VectorXd& e);
-  /// After the period: integrate the x, y, z, psi errors over dt (rectangle rule, 5.7).
+  /// `kinds` of the measured states, `integrated` the measured states whose errors
+  /// are integrated (appended in that order).
+  TrackingError(std::vector<StateKind> kinds, std::vector<int> integrated);
+  /// x_tilde at the measured state x and its reference x_r; no allocation.
+  const Eigen::VectorXd& update(const Eigen::VectorXd& x, const Eigen::VectorXd& x_r);
+  /// The measured part of x_tilde into `e` (sized measured()), without the integrals.
+  void measured(const Eigen::VectorXd& x, const Eigen::VectorXd& x_r, Eigen::VectorXd& e) const;
+  /// After the period: integrate the configured errors over dt (rectangle rule, 5.7).
   void integrate(double dt);
-  void reset() { integral_.setZero(); xt_.setZero(); }
+  void reset();
   const Eigen::VectorXd& value() const { return xt_; }
+  int measured_states() const { return static_cast<int>(kinds_.size()); }
 
  private:
-  Eigen::VectorXd xt_;
-  Eigen::Vector4d integral_ = Eigen::Vector4d::Zero();
+  std::vector<StateKind> kinds_;
+  std::vector<int> integrated_;
+  Eigen::VectorXd xt_, integral_;
 };
 
 }  // namespace tmpc

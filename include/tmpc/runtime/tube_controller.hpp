@@ -5,25 +5,34 @@
 // (optionally re-initialised to the measured error when that lies in X_bar), the
 // applied input clipped to the actuator limits (counted), and the LQR fallback
 // u = u_r + N_u^-1 K_lqr x_tilde_n used when the optimizer fails or is late.
-// Offset-free option (DESIGN.md section 4, the planned extension), an observer on the
-// one-step residual r = x_n - A x_n,prev - B u_n,prev (normalized, applied input):
-//   d_hat+ = d_hat + beta ((S D)^-1 S r - d_hat)   force on the load, N (S: the load's
-//                                                   x, y, z velocity rows)
+// Offset-free option (DESIGN.md section 4), an observer on the one-step residual
+// r = x_n - A x_n,prev - B u_n,prev (normalized, applied input):
+//   d_hat+ = d_hat + beta ((S D)^-1 S r - d_hat)   the disturbance (tiltrotor: the force
+//                                                   on the load, N); S: the rows of the
+//                                                   measured states of kind velocity
 //   c_hat+ = c_hat + beta (r - D d_hat+ - c_hat)     the rest of the model mismatch
 // The nominal model becomes affine, x_bar+ = A x_bar + B u_bar(0) + D d_hat + c_hat, and
 // the QP (built from artifact.qp(true), mpc_qp.hpp) predicts with it around the
 // steady state (x_s, u_s) = (Tx, Tu) d_hat, with its sets shifted; u_bar(0) includes
 // u_s and the fallback is u_s + K_lqr (x_n - x_s). The tube error x_tilde - x_bar then
 // sees only the change of the mismatch, not its constant part.
+// With the artifact's Kalman filter (estimator "kalman", synthesis/estimator.hpp) the
+// observer is the filter instead: each period xi^- = A_a xi + B_a u_prev, then
+// xi = xi^- + L (y - C xi^-) on the measured rows; the estimate x_hat replaces the
+// measurement everywhere in the law (tube error, fallback, state box), d_hat is its
+// disturbance part and c_hat = E_c times its residual part. The filter estimates the
+// measured (physical) states; the integral states are the model's integral rows
+// applied to the previous estimate. A state that does not follow the previous one by
+// one period restarts the filter's state part and the integrals from it.
 // No allocation in step(); it never throws.
 #pragma once
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
-#include "tmpc/model/config.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -34,19 +43,22 @@ struct TubeControllerOptions {
   bool offset_free = false;           ///< disturbance observer + targets; the solver must be
                                       ///< built from artifact.qp(true)
   double observer_gain = 0.05;        ///< beta in (0, 1]: time constant T / beta (0.24 s)
+  std::string observer = "residual";  ///< offset-free: "residual" or "kalman" (the artifact's filter)
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
 
-/// The config's tube law (section `tube_law`), overridden by `law` when not empty:
-/// "mayne" or "offset-free"; `observer_gain` > 0 overrides the gain. Throws
-/// std::invalid_argument for another name.
-TubeControllerOptions tube_law_options(const Config& cfg, const std::string& law = "", double observer_gain = 0.0);
+/// The artifact's tube law (its design config's `tube_law` and `estimation`),
+/// overridden by `law` when not empty: "mayne" or "offset-free"; `observer_gain` > 0
+/// overrides the gain; `observer` ("residual" or "kalman") the observer. Throws
+/// std::invalid_argument for another name or "kalman" without the artifact's filter.
+TubeControllerOptions tube_law_options(const ControllerArtifact& a, const std::string& law = "",
+                                       double observer_gain = 0.0, const std::string& observer = "");
 
 /// What one period decided.
 struct ControlStep {
-  Eigen::Vector4d u = Eigen::Vector4d::Zero();      ///< applied input (physical, clipped)
-  Eigen::Vector4d u_bar = Eigen::Vector4d::Zero();  ///< nominal input u_bar(0), physical error units
+  Eigen::VectorXd u;                                ///< applied input (physical, clipped)
+  Eigen::VectorXd u_bar;                            ///< nominal input u_bar(0), physical error units
   Eigen::VectorXd x_bar;                            ///< nominal state used (normalized)
   SolveStatus status = SolveStatus::Converged;
   int iterations = 0;
@@ -57,7 +69,10 @@ struct ControlStep {
   double tube_ratio = 0.0;  ///< max_i |x_tilde - x_bar - c_Z|_i / radius_i (<= 1: inside)
   int tube_worst = 0;       ///< the state i of that maximum
   bool in_state_box = true;  ///< x_tilde inside X
-  Eigen::Vector3d d_hat = Eigen::Vector3d::Zero();  ///< estimated force on the load, N (offset-free)
+  Eigen::VectorXd d_hat;                            ///< estimated disturbance (tiltrotor: force on the load, N)
+  bool softened = false;     ///< the hard QP was infeasible: the softened QP's input (controller_solver.hpp)
+  double slack_max = 0.0;    ///< its largest slack, physical units of state slack_state
+  int slack_state = -1;
 };
 
 class TubeController {
@@ -66,10 +81,10 @@ class TubeController {
   /// prepare() and finish() instead of step().
   TubeController(const ControllerArtifact& a, std::unique_ptr<QpSolver> solver, TubeControllerOptions opt = {});
 
-  /// One period: x_tilde (physical, 24 error states), u_r the feedforward, and whether
+  /// One period: x_tilde (physical, n error states), u_r the feedforward, and whether
   /// the optimizer's answer arrived in time (false: the fallback is applied).
   /// Equals prepare(), a solve from the returned nominal state, finish().
-  const ControlStep& step(const Eigen::VectorXd& x_tilde, const Eigen::Vector4d& u_r, bool optimizer_in_time = true);
+  const ControlStep& step(const Eigen::VectorXd& x_tilde, const Eigen::VectorXd& u_r, bool optimizer_in_time = true);
   /// First half of a period: the parameter the optimizer solves for, the nominal
   /// state (normalized), or (x_bar - x_s, d_hat) offset-free. `consecutive`: x_tilde
   /// follows the previous prepare()'s state by one period, with finish()'s input
@@ -79,12 +94,12 @@ class TubeController {
   /// Second half: the law (5.9) with the optimizer's result, or the LQR fallback when
   /// `r` is null (late, busy), not converged, or not `in_time` (its status is still
   /// recorded). Call prepare() first in the same period.
-  const ControlStep& finish(const Eigen::Vector4d& u_r, const SolveResult* r, bool in_time = true);
+  const ControlStep& finish(const Eigen::VectorXd& u_r, const SolveResult* r, bool in_time = true);
   /// Start the nominal state at a (physical) error state, e.g. at mission start.
   void reset(const Eigen::VectorXd& x_tilde);
 
   const ControllerArtifact& artifact() const { return a_; }
-  /// Entries of the optimizer's parameter: n, plus 3 offset-free.
+  /// Entries of the optimizer's parameter: n, plus nd + n offset-free.
   int parameters() const { return static_cast<int>(theta_.size()); }
   long clipped_count() const { return clipped_; }
   long fallback_count() const { return fallbacks_; }
@@ -97,11 +112,16 @@ class TubeController {
   // Offset-free observer and targets.
   Eigen::MatrixXd Tx_, Tu_, D_pinv_;
   Eigen::VectorXd theta_, x_s_, x_prev_, resid_;
-  Eigen::Vector4d u_s_ = Eigen::Vector4d::Zero(), u_prev_n_ = Eigen::Vector4d::Zero();
-  Eigen::Vector3d d_hat_ = Eigen::Vector3d::Zero(), d_raw_ = Eigen::Vector3d::Zero();
+  Eigen::VectorXd u_s_, u_prev_n_, u_n_, ub_, u_raw_;
+  Eigen::VectorXd d_hat_, d_raw_;
   Eigen::VectorXd c_hat_;
   bool have_prev_ = false;
-  Eigen::Vector4d u_min_, u_max_;
+  // Kalman filter (estimator "kalman").
+  bool kalman_ = false;
+  Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;
+  std::vector<int> rows_;
+  Eigen::VectorXd xi_, xi_pred_, innov_, x_hat_;
+  Eigen::VectorXd u_min_, u_max_;
   ControlStep out_;
   long clipped_ = 0, fallbacks_ = 0;
 };

@@ -5,13 +5,14 @@
 //   body inertia at dB1, rotor bodies at dB2 / dB3 rolled by Rx(-+beta) with a
 //   y-axis hinge each, CoM at c; thrust and rotor drag torque as site actuators
 //   (gear 0 0 1 0 0 +-k_tau/b), servo torques as joint motors, joint damping mu,
-//   the disturbance as a world force on the load (xfrc_applied).
+//   the disturbances as world forces on the load and the main body (xfrc_applied).
 // Only physical inertias are accepted (S2 is not a rigid body; MuJoCo rejects it).
 #pragma once
 
 #include <memory>
 #include <string>
 
+#include "tmpc/model/dynamics.hpp"
 #include "tmpc/sim/disturbance.hpp"
 #include "tmpc/sim/plant.hpp"
 
@@ -27,14 +28,16 @@ bool mujoco_available();
 
 class MujocoPlant final : public Plant {
  public:
-  MujocoPlant(const VehicleParams& params, DisturbanceSchedule disturbance, double substep);
+  MujocoPlant(const VehicleParams& params, DisturbanceProfile disturbance, double substep);
   ~MujocoPlant() override;
   MujocoPlant(const MujocoPlant&) = delete;
   MujocoPlant& operator=(const MujocoPlant&) = delete;
 
-  void reset(const State20& x0, double t0) override;
-  void advance(const Eigen::Vector4d& u, double dt) override;
-  const State20& state() const override;
+  int states() const override { return kNx; }
+  int inputs() const override { return kNu; }
+  void reset(const Eigen::VectorXd& x0, double t0) override;
+  void advance(const Eigen::VectorXd& u, double dt) override;
+  const Eigen::VectorXd& state() const override;
   double time() const override;
   Eigen::Vector3d disturbance() const override;
   std::string name() const override { return "mujoco"; }

@@ -16,6 +16,7 @@
 #include "tmpc/qp/mpc_qp.hpp"
 #include "tmpc/sets/box.hpp"
 #include "tmpc/sets/zonotope.hpp"
+#include "tmpc/synthesis/estimator.hpp"
 #include "tmpc/synthesis/lmi_gain.hpp"
 #include "tmpc/synthesis/rpi.hpp"
 
@@ -63,9 +64,11 @@ struct VariantComparison {
 struct ControllerDesign {
   Config cfg;
   std::string config_text;
+  std::vector<std::string> state_names, input_names;
+  EnvelopeSettings envelope;                   ///< resolved (a box, also from trajectories)
   ErrorModel em;
   Eigen::MatrixXd Sigma_rho_n, Sigma_lambda_n;  ///< weights in normalized coordinates
-  std::vector<Eigen::MatrixXd> vertices;       ///< normalized A: nominal first, then the 8 vertices
+  std::vector<Eigen::MatrixXd> vertices;       ///< normalized A: nominal first, then the vertices (none: LTI)
   Zonotope W;                                  ///< normalized uncertainty set
   std::string w_description;
   Box X, U;                                    ///< constraint sets (normalized error coordinates)
@@ -85,8 +88,28 @@ struct ControllerDesign {
   std::string margin_method;
   MpcQpData qp;
 
+  /// State estimation (config `estimation`): the Kalman filter (observer kalman) and,
+  /// with output_feedback_tube, its tube, which then replaces the state tube: `tube.Z`
+  /// is Z_c and x_bar, u_bar are X - (Z_c + E_x), U - K Z_c (estimator.hpp).
+  bool kalman = false;
+  KalmanDesign kf;
+  /// The noise trade-off of the LQR tube gain (with the filter): the input standard
+  /// deviation the estimation error passes through K (sqrt diag K Sigma K', Sigma the
+  /// filter's a-posteriori covariance; physical units), against the tube's robustness
+  /// margin, for the configured input weights scaled by each factor (1: the design's).
+  struct NoiseTradeoff {
+    double scale = 1.0;
+    Eigen::VectorXd input_noise_std;
+    double spectral_radius = 0.0, margin = 0.0;
+  };
+  std::vector<NoiseTradeoff> noise_tradeoff;
+  bool output_feedback = false;  ///< the output-feedback tube is applied
+  bool of_computed = false;      ///< ... and computed (always with the filter, for the report)
+  OutputFeedbackTube of;
+  Box x_bar_state_feedback, u_bar_state_feedback;  ///< the state tube's sets, for the report
+
   struct Timing {
-    double error_model = 0, uncertainty = 0, gains = 0, rpi = 0, checks = 0, qp = 0, total = 0;
+    double error_model = 0, uncertainty = 0, gains = 0, rpi = 0, checks = 0, estimation = 0, qp = 0, total = 0;
   } seconds;
 };
 
@@ -100,9 +123,5 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
 
 /// The JSON report (stable keys) of a design.
 std::string design_report_json(const ControllerDesign& d);
-
-/// Names of the 24 error states and 4 inputs, in order.
-extern const char* const kStateNames[24];
-extern const char* const kInputNames[4];
 
 }  // namespace tmpc

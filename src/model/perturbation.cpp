@@ -1,4 +1,4 @@
-#include "tmpc/sim/perturbation.hpp"
+#include "tmpc/model/perturbation.hpp"
 
 #include <algorithm>
 #include <random>

@@ -1,0 +1,86 @@
+// The runtime's solver factory (see controller_solver.hpp).
+#include "tmpc/runtime/controller_solver.hpp"
+
+#include <stdexcept>
+
+#include "tmpc/explicit/explicit_law.hpp"
+#include "tmpc/explicit/explicit_solver.hpp"
+
+namespace tmpc {
+
+namespace {
+
+/// The hard QP first; when it is certified infeasible, the softened QP (see
+/// controller_solver.hpp). Its result has the hard layout (u_hat); the slacks are
+/// reported in softened, slack_max and slack_state. No allocation per solve.
+class SoftRecoverySolver final : public QpSolver {
+ public:
+  SoftRecoverySolver(std::unique_ptr<QpSolver> hard, std::unique_ptr<QpSolver> soft)
+      : hard_(std::move(hard)), soft_(std::move(soft)) {
+    res_.z = Eigen::VectorXd::Zero(hard_->problem().nz());
+    res_.y = Eigen::VectorXd::Zero(hard_->problem().nc());
+    slacks_ = soft_->problem().slacks;
+  }
+  const SolveResult& solve(const Eigen::VectorXd& x0) override {
+    const SolveResult& h = hard_->solve(x0);
+    if (h.status != SolveStatus::Infeasible) return h;
+    const SolveResult& r = soft_->solve(x0);
+    res_.status = r.status;
+    res_.iterations = h.iterations + r.iterations;
+    res_.solve_us = h.solve_us + r.solve_us;
+    res_.primal_residual = r.primal_residual;
+    res_.dual_residual = r.dual_residual;
+    res_.objective = r.objective;
+    res_.restarts = r.restarts;
+    res_.active_set_steps = h.active_set_steps + r.active_set_steps;
+    res_.z = r.z.head(res_.z.size());
+    res_.y.setZero();  // the hard QP has no multipliers: it is infeasible
+    res_.softened = true;
+    Eigen::Index worst = 0;
+    res_.slack_max = slacks_ > 0 ? r.z.tail(slacks_).maxCoeff(&worst) : 0.0;
+    res_.slack_state = static_cast<int>(worst);
+    return res_;
+  }
+  void reset() override {
+    hard_->reset();
+    soft_->reset();
+  }
+  const char* name() const override { return hard_->name(); }
+  const ParametricQp& problem() const override { return hard_->problem(); }
+  const SolverOptions& options() const override { return hard_->options(); }
+
+ private:
+  std::unique_ptr<QpSolver> hard_, soft_;
+  SolveResult res_;
+  int slacks_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const ControllerArtifact& a,
+                                                 const SolverOptions& options, const std::string& explicit_path,
+                                                 bool offset_free) {
+  std::unique_ptr<QpSolver> hard;
+  if (name != "explicit") {
+    hard = make_solver(name, a.qp(offset_free), options);
+  } else {
+    if (offset_free) {
+      throw std::invalid_argument("solver 'explicit' has no offset-free form (its regions partition the nominal state "
+                                  "only): fly it with --tube-law mayne, or use an online solver");
+    }
+    if (explicit_path.empty()) throw std::invalid_argument("solver 'explicit' needs the explicit law's file (tmpc explicit)");
+    hard = make_explicit_solver(a, load_explicit(explicit_path, &a));
+  }
+  if (!(a.soft_penalty > 0.0)) return hard;
+  const std::string soft_name = name == "admm" || name == "reference" ? name : "admm";
+  SolverOptions soft = options;
+  if (soft.rho <= 0.0) {
+    // The hard QP's penalty: the spectral rule on the softened QP sees the slacks' tiny
+    // curvature (1e-8 of H) and gives a penalty orders of magnitude too small.
+    const ParametricQp hard_qp = ParametricQp::from_mpc(a.qp(offset_free));
+    soft.rho = options.rho_scale * spectral_rho(hard_qp.H, hard_qp.A);
+  }
+  return std::make_unique<SoftRecoverySolver>(std::move(hard), make_solver(soft_name, a.qp(offset_free, true), soft));
+}
+
+}  // namespace tmpc

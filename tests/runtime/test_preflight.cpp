@@ -1,0 +1,76 @@
+// Pre-flight: a trajectory inside the artifact's envelope is flyable; one that leaves
+// it is refused with the first time and the numbers, the time checked against the
+// trajectory's closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../synthesis/design_fixture.hpp"
+#include "tmpc/runtime/preflight.hpp"
+
+namespace tmpc {
+namespace {
+
+const ControllerArtifact& artifact() {
+  static const ControllerArtifact a = test::quick_artifact();
+  return a;
+}
+
+TEST(Preflight, TheShippedTrajectoriesAreInsideTheDefaultEnvelope) {
+  // Every tiltrotor scenario shipped (the others fly the helix: gusts, noisy_sensors,
+  // sustained_force, masses_30 check the same trajectory, once).
+  for (const char* name : {"thesis_helix", "figure_eight", "waypoints", "lissajous_csv"}) {
+    const Scenario s = test::shipped_scenario(name);
+    const PreflightReport r = check_flight(artifact(), *s.trajectory, s.duration);
+    EXPECT_TRUE(r.ok) << name << ": " << r.message;
+    EXPECT_NE(r.message.find("inside the envelope"), std::string::npos) << r.message;
+    for (int i = 0; i < 4; ++i) {  // the feedforward stayed in the range the inputs were tightened for
+      EXPECT_GE(r.feedforward_min(i), artifact().feedforward_min(i) - 1e-6) << name;
+      EXPECT_LE(r.feedforward_max(i), artifact().feedforward_max(i) + 1e-6) << name;
+    }
+  }
+  for (const char* name : {"gusts", "noisy_sensors", "sustained_force", "masses_30"}) {
+    EXPECT_EQ(test::shipped_scenario(name).trajectory->description(),
+              test::shipped_scenario("thesis_helix").trajectory->description()) << name;
+  }
+}
+
+TEST(Preflight, AFastFigureEightIsRefusedAtTheFirstPeriodOutside) {
+  // a_y = -2 ay w^2 sin(2 w t): with ay = 3 m, w = 0.3 rad/s its peak is 0.54 m/s^2;
+  // it first leaves the envelope's 0.06 m/s^2 at sin(2 w t) = 0.06 / 0.54 (its speed,
+  // at most 0.95 m/s, stays inside; a_x leaves later).
+  const double w = 0.3, ay = 3.0;
+  const auto eight = make_figure_eight({Eigen::Vector3d(0, 0, 3), Eigen::Vector2d(1, ay), w, 0.0});
+  const PreflightReport r = check_flight(artifact(), *eight, 60.0);
+  ASSERT_FALSE(r.ok);
+  const double limit = artifact().envelope.acceleration_max.y();
+  const double t_exit = std::asin(limit / (2 * ay * w * w)) / (2 * w);
+  const double T = artifact().sample_time;
+  EXPECT_GT(r.time, t_exit - 1e-9);
+  EXPECT_LE(r.time, t_exit + T);
+  EXPECT_NE(r.message.find("acceleration y = -0.06"), std::string::npos) << r.message;  // a_y < 0 first
+  EXPECT_GT(r.speed_max, 0.9);  // the report's range covers the flight up to the refusal
+  EXPECT_NE(r.message.find("outside the envelope [-0.06, 0.06]"), std::string::npos) << r.message;
+}
+
+TEST(Preflight, SpeedYawAndTheLinearModelsOrigin) {
+  // A wide circle: 1.125 m/s, above the envelope's 1 m/s, at 0.051 m/s^2.
+  const auto wide = make_circle({Eigen::Vector3d(0, 0, 4), 25.0, 0.045, 0.0});
+  PreflightReport r = check_flight(artifact(), *wide, 80.0);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("t = 0 s: speed 1.125 m/s above the envelope's 1 m/s"), std::string::npos) << r.message;
+  // The helix at twice the thesis' rate: 0.12 m/s^2 along x at t = 0.
+  const auto fast = make_helix({Eigen::Vector3d(0, 0, 4), 5.0, 3.0, 2 * M_PI / 40.0, 0.0});
+  r = check_flight(artifact(), *fast, 80.0);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("t = 0 s: acceleration x = -0.12"), std::string::npos) << r.message;
+  // A yaw beyond the envelope's tolerance (0 +- 0.05 rad).
+  const auto turned = make_hover({Eigen::Vector3d(0, 0, 2), 0.3});
+  r = check_flight(artifact(), *turned, 5.0);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("yaw 0.3 rad outside the envelope's 0 +- 0.05 rad"), std::string::npos) << r.message;
+  EXPECT_THROW(require_flight(artifact(), *turned, 5.0, "test"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tmpc
