@@ -1,0 +1,86 @@
+// State estimation for the offset-free tube law and the output-feedback tube
+// (DESIGN.md 5b), in normalized coordinates.
+//
+// Kalman filter (steady state) on the error model augmented with the disturbance
+// model of offset-free MPC (Pannocchia and Rawlings 2003; Muske and Badgwell 2002):
+//   xi = (x, d, c),  xi+ = A_a xi + B_a u + w_a,  y = C xi + v
+//   A_a = [A D E_c; 0 I 0; 0 0 I],  B_a = [B; 0; 0],  C = [S 0 0]
+// x: the p physical (measured-kind) states of the error model, without the integral
+// states (the controller's own: it integrates its estimate through the model's
+// integral rows), d: the disturbance of the model (tiltrotor: the force on the load, N;
+// D), c: constant accelerations on the angular-rate rows the disturbance does not
+// explain (E_c: unit columns), S: the measured rows (every physical state, or positions,
+// angles and angular rates).
+// Filter form, each period: xi^- = A_a xi + B_a u (the applied input), then
+//   xi = xi^- + L (y - C xi^-),  L = P C' (C P C' + R)^-1,
+// P the stabilizing solution of the filter DARE (the LQR DARE of (A_a', C', Q, R)).
+//
+// Output-feedback tube (Mayne, Rakovic, Findeisen and Allgower, Automatica 42, 2006):
+// with e = xi - xi_hat the estimation error and delta = x_hat - x_bar the control error,
+//   e+     = (I - L C) A_a e + (I - L C) w_a - L v                       (estimation)
+//   delta+ = (A + B K) delta + L_x (C A_a e + C w_a + v)                 (control)
+// E is an RPI set of the first, Z_c of the second with its disturbance bounded by the
+// interval hull of L_x C A_a E + L_x C W_a + L_x V (L_x: L's rows of x, zero on the
+// integral rows, which follow the model), and the true state x = x_bar + delta + e_x
+// lies in x_bar + Z_c + E_x: X_bar = X - (Z_c + E_x), U_bar = U - K Z_c. E_x has no
+// extent on the integral states: their error is the sum of the position estimates'
+// errors, zero-mean but not bounded by an invariant set (reported, not tightened).
+// w_a: the state mismatch W, the force's change per step and the residual's change
+// (a box); v: the noise box (noise_bound_sigmas standard deviations). Both sets are
+// linear in the noise box: E = E_W + s E_V, Z_c = Z_W + s Z_V (Minkowski sums of RPI
+// sets are RPI), so the largest noise scale s with non-empty tightened sets is exact
+// for these outer approximations.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "tmpc/sets/box.hpp"
+#include "tmpc/sets/zonotope.hpp"
+
+namespace tmpc {
+
+struct KalmanDesign {
+  int p = 0;                       ///< physical states in the filter
+  std::vector<int> measured_rows;  ///< rows of x in y, in order
+  Eigen::MatrixXd E_c;             ///< n x nc: the residual channels
+  Eigen::MatrixXd A_a, B_a, C;     ///< augmented model and measurement map
+  Eigen::MatrixXd Q, R;            ///< covariances designed for
+  Eigen::MatrixXd P;               ///< a-priori error covariance (DARE)
+  Eigen::MatrixXd L;               ///< filter gain, (n + nd + nc) x ny
+  double spectral_radius = 0.0;    ///< of (I - L C) A_a (< 1: the filter converges)
+};
+
+/// The augmented model of (A, B, D, E_c) (p states) and rows; L, P, Q, R left empty.
+KalmanDesign kalman_model(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& D,
+                          const Eigen::MatrixXd& E_c, const std::vector<int>& measured_rows);
+
+/// Steady-state gain for process covariance Q ((n + nd + nc) square) and measurement
+/// covariance R (ny square). Throws std::runtime_error when the DARE has no
+/// stabilizing solution (the augmented pair not detectable) or the filter diverges.
+KalmanDesign design_kalman(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& D,
+                           const Eigen::MatrixXd& E_c, const std::vector<int>& measured_rows,
+                           const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R);
+
+/// The output-feedback tube's sets (see above), at noise scale 1 and their parts.
+struct OutputFeedbackTube {
+  Zonotope E_W, E_V;          ///< estimation error sets (augmented), of w_a and of v
+  Eigen::VectorXd e_x_radius;  ///< interval-hull half-widths of E_x = (E_W + E_V) on x
+  Zonotope Z_W, Z_V;          ///< control tube parts; Z_c = Z_W + Z_V
+  Zonotope Z_c;
+  Box x_bar, u_bar;            ///< X - (Z_c + E_x), U - K Z_c
+  double noise_margin = 0.0;   ///< largest s with non-empty X - (Z_W + E_W,x + s (Z_V + E_V,x)) and U - K(...)
+  int j_estimation = 0, j_control = 0;
+};
+
+/// Vertices: the closed loops A_i + B K (nominal first, n >= p states, the first p
+/// the filter's); W_a: box half-widths of w_a (p + nd + nc); V: noise box half-widths (ny). `lpv_robust` as the state tube's
+/// variant (else the nominal loop only). Throws std::runtime_error when an RPI set
+/// cannot be computed (an unstable loop).
+OutputFeedbackTube output_feedback_tube(const KalmanDesign& k, const std::vector<Eigen::MatrixXd>& closed_loops,
+                                        const Eigen::MatrixXd& K, const Eigen::VectorXd& W_a,
+                                        const Eigen::VectorXd& V, const Box& X, const Box& U, double rpi_lambda);
+
+}  // namespace tmpc

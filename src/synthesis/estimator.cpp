@@ -1,0 +1,147 @@
+// Kalman filter of the offset-free error model and the output-feedback tube (see
+// estimator.hpp).
+#include "tmpc/synthesis/estimator.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Cholesky>
+
+#include "tmpc/synthesis/lqr.hpp"
+#include "tmpc/synthesis/rpi.hpp"
+
+namespace tmpc {
+
+KalmanDesign kalman_model(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& D,
+                          const Eigen::MatrixXd& E_c, const std::vector<int>& measured_rows) {
+  const Eigen::Index n = A.rows(), nd = D.cols(), nc = E_c.cols(), na = n + nd + nc;
+  if (A.cols() != n || B.rows() != n || D.rows() != n || (nc > 0 && E_c.rows() != n) || measured_rows.empty()) {
+    throw std::invalid_argument("kalman_model: A must be n x n with B, D, E_c of n rows and at least one measured row");
+  }
+  KalmanDesign k;
+  k.p = static_cast<int>(n);
+  k.measured_rows = measured_rows;
+  k.E_c = nc > 0 ? E_c : Eigen::MatrixXd::Zero(n, 0);
+  k.A_a = Eigen::MatrixXd::Identity(na, na);
+  k.A_a.topLeftCorner(n, n) = A;
+  k.A_a.block(0, n, n, nd) = D;
+  if (nc > 0) k.A_a.block(0, n + nd, n, nc) = E_c;
+  k.B_a = Eigen::MatrixXd::Zero(na, B.cols());
+  k.B_a.topRows(n) = B;
+  k.C = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(measured_rows.size()), na);
+  for (std::size_t i = 0; i < measured_rows.size(); ++i) {
+    const int r = measured_rows[i];
+    if (r < 0 || r >= n) throw std::invalid_argument("kalman_model: measured row " + std::to_string(r) + " out of range");
+    k.C(static_cast<Eigen::Index>(i), r) = 1.0;
+  }
+  return k;
+}
+
+KalmanDesign design_kalman(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& D,
+                           const Eigen::MatrixXd& E_c, const std::vector<int>& measured_rows,
+                           const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R) {
+  KalmanDesign k = kalman_model(A, B, D, E_c, measured_rows);
+  const Eigen::Index na = k.A_a.rows(), ny = k.C.rows();
+  if (Q.rows() != na || Q.cols() != na || R.rows() != ny || R.cols() != ny) {
+    throw std::invalid_argument("design_kalman: Q must be " + std::to_string(na) + " square and R " +
+                                std::to_string(ny) + " square");
+  }
+  k.Q = Q;
+  k.R = R;
+  // The filter Riccati equation is the LQR one of the dual pair (A_a', C').
+  const LqrResult dual = solve_dlqr(k.A_a.transpose(), k.C.transpose(), Q, R);
+  k.P = 0.5 * (dual.P + dual.P.transpose());
+  const Eigen::MatrixXd S = k.C * k.P * k.C.transpose() + R;
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success) throw std::runtime_error("Kalman filter: C P C' + R is not positive definite");
+  k.L = llt.solve(k.C * k.P).transpose();  // P C' S^-1 (S, P symmetric)
+  const Eigen::MatrixXd Se = (Eigen::MatrixXd::Identity(na, na) - k.L * k.C) * k.A_a;
+  k.spectral_radius = spectral_radius(Se);
+  if (!(k.spectral_radius < 1.0) || !k.L.allFinite()) {
+    throw std::runtime_error("Kalman filter: the estimation error does not converge (spectral radius " +
+                             std::to_string(k.spectral_radius) + "); the disturbance model is not detectable from the measured states");
+  }
+  return k;
+}
+
+namespace {
+
+/// RPI set of e+ = S e + w, w in W, over the given loops (the first nominal): the
+/// robust LPV form when there are vertices.
+Zonotope rpi(const std::vector<Eigen::MatrixXd>& loops, const Zonotope& W, double lambda) {
+  RpiSettings rs;
+  rs.lambda = lambda;
+  if (loops.size() <= 1) return rpi_lti(loops.front(), W, rs).Z;
+  return rpi_lpv_robust(loops.front(), std::vector<Eigen::MatrixXd>(loops.begin() + 1, loops.end()), W, rs).Z;
+}
+
+/// A centred box of the given half-widths as a zonotope (a floor keeps it full-dimensional,
+/// as the RPI formula's H_w^-1 needs).
+Zonotope box_zonotope(const Eigen::VectorXd& r) {
+  const double floor = 1e-12 * std::max(1.0, r.maxCoeff());
+  return Zonotope(Eigen::VectorXd::Zero(r.size()), Eigen::MatrixXd(r.cwiseMax(floor).asDiagonal()));
+}
+
+Eigen::VectorXd abs_row_sums(const Eigen::MatrixXd& M) { return M.cwiseAbs().rowwise().sum(); }
+
+}  // namespace
+
+OutputFeedbackTube output_feedback_tube(const KalmanDesign& k, const std::vector<Eigen::MatrixXd>& closed_loops,
+                                        const Eigen::MatrixXd& K, const Eigen::VectorXd& W_a,
+                                        const Eigen::VectorXd& V, const Box& X, const Box& U, double rpi_lambda) {
+  const Eigen::Index na = k.A_a.rows(), ny = k.C.rows(), n = K.cols(), p = k.p;
+  if (W_a.size() != na || V.size() != ny || closed_loops.empty() || X.dim() != n || U.dim() != K.rows() || p > n) {
+    throw std::invalid_argument("output_feedback_tube: W_a needs " + std::to_string(na) + " entries and V " +
+                                std::to_string(ny));
+  }
+  OutputFeedbackTube t;
+  const Eigen::MatrixXd M = Eigen::MatrixXd::Identity(na, na) - k.L * k.C;
+  const Eigen::MatrixXd Se = M * k.A_a;
+  RpiSettings rs;
+  rs.lambda = rpi_lambda;
+  const Eigen::VectorXd floor_wa = W_a.cwiseMax(1e-12);
+  const RpiResult ew = rpi_lti(Se, Zonotope(Eigen::VectorXd::Zero(na), M * floor_wa.asDiagonal()), rs);
+  const RpiResult ev = rpi_lti(Se, Zonotope(Eigen::VectorXd::Zero(na), -k.L * V.asDiagonal()), rs);
+  t.E_W = ew.Z;
+  t.E_V = ev.Z;
+  t.j_estimation = std::max(ew.j, ev.j);
+  Eigen::VectorXd ex_w = Eigen::VectorXd::Zero(n), ex_v = Eigen::VectorXd::Zero(n);
+  ex_w.head(p) = t.E_W.radius().head(p);
+  ex_v.head(p) = t.E_V.radius().head(p);
+  t.e_x_radius = ex_w + ex_v;
+  // The control error's disturbance: the x rows of the correction L (y - C xi^-).
+  Eigen::MatrixXd Lx = Eigen::MatrixXd::Zero(n, ny);
+  Lx.topRows(p) = k.L.topRows(p);
+  const Eigen::MatrixXd LCA = Lx * k.C * k.A_a;
+  const Eigen::VectorXd r_w = abs_row_sums(LCA * t.E_W.G) + abs_row_sums(Lx * k.C * floor_wa.asDiagonal());
+  const Eigen::VectorXd r_v = abs_row_sums(LCA * t.E_V.G) + abs_row_sums(Lx * V.asDiagonal());
+  t.Z_W = rpi(closed_loops, box_zonotope(r_w), rpi_lambda);
+  t.Z_V = rpi(closed_loops, box_zonotope(r_v), rpi_lambda);
+  t.j_control = 0;
+  t.Z_c = t.Z_W.plus(t.Z_V);
+  const Zonotope ex_box(Eigen::VectorXd::Zero(n), Eigen::MatrixXd(t.e_x_radius.asDiagonal()));
+  t.x_bar = X.minus(t.Z_c.plus(ex_box));
+  t.u_bar = U.minus(t.Z_c.map(K));
+  // Noise margin: every half-width is h_W + s h_V.
+  const Eigen::VectorXd hx_w = t.Z_W.radius() + ex_w, hx_v = t.Z_V.radius() + ex_v;
+  const Eigen::VectorXd hu_w = t.Z_W.map(K).radius(), hu_v = t.Z_V.map(K).radius();
+  double s = std::numeric_limits<double>::infinity();
+  auto limit = [&s](const Eigen::VectorXd& half, const Eigen::VectorXd& hw, const Eigen::VectorXd& hv) {
+    for (Eigen::Index i = 0; i < half.size(); ++i) {
+      const double room = half(i) - hw(i);
+      if (room < 0.0) {
+        s = 0.0;
+      } else if (hv(i) > 0.0) {
+        s = std::min(s, room / hv(i));
+      }
+    }
+  };
+  limit(X.half_width(), hx_w, hx_v);
+  limit(U.half_width(), hu_w, hu_v);
+  t.noise_margin = s;
+  return t;
+}
+
+}  // namespace tmpc

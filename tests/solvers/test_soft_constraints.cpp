@@ -1,0 +1,172 @@
+// The softened QP (parametric_qp.hpp, soft_penalty.hpp): exact where the hard QP is
+// feasible (the hard solution, no slack), the least violation where it is not; admm
+// and reference agree on it (KKT residuals written from the definition); the other
+// solvers say they do not solve it; the runtime's recovery flies it only when the
+// hard QP is certified infeasible.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "case_study_qps.hpp"
+#include "tmpc/runtime/controller_solver.hpp"
+#include "tmpc/solvers/kkt.hpp"
+#include "tmpc/solvers/soft_penalty.hpp"
+#include "tmpc/solvers/solver.hpp"
+
+namespace tmpc {
+namespace {
+
+// The noisy-sensor design: its configuration enables the soft constraints.
+const ControllerArtifact& artifact() { return test::noisy_artifact(); }
+
+TEST(SoftConstraints, TheLayoutIsTheHardQpWithOneSlackPerState) {
+  MpcQpData d = artifact().qp();
+  const ParametricQp hard = ParametricQp::from_mpc(d);
+  d.soft_penalty = 7.0;
+  const ParametricQp soft = ParametricQp::from_mpc(d);
+  const int nu = hard.nz(), rows = d.N * d.n, nin = hard.nc() - rows;
+  ASSERT_EQ(soft.slacks, d.n);
+  ASSERT_EQ(soft.nz(), nu + d.n);
+  ASSERT_EQ(soft.nc(), nin + 2 * rows + d.n);
+  EXPECT_EQ(soft.H.topLeftCorner(nu, nu), hard.H);
+  EXPECT_TRUE((soft.f0.tail(d.n).array() == 7.0).all());
+  // Stage 3, state 5: upper row x - s_5 <= hi, lower row x + s_5 >= lo.
+  const int up = nin + 3 * d.n + 5, low = nin + rows + 3 * d.n + 5;
+  EXPECT_EQ(soft.A.row(up).head(nu), hard.A.row(nin + 3 * d.n + 5));
+  EXPECT_EQ(soft.A(up, nu + 5), -1.0);
+  EXPECT_EQ(soft.A(low, nu + 5), 1.0);
+  EXPECT_EQ(soft.A.row(up).tail(d.n).cwiseAbs().sum(), 1.0);
+  EXPECT_TRUE(std::isinf(soft.lo0(up)) && soft.lo0(up) < 0);
+  EXPECT_EQ(soft.hi0(up), hard.hi0(nin + 3 * d.n + 5));
+  EXPECT_TRUE(std::isinf(soft.hi0(low)) && soft.hi0(low) > 0);
+  EXPECT_THROW(ParametricQp::soften(hard, d.N, d.n, 0.0), std::invalid_argument);
+  // Solvers that do not solve this form say so.
+  for (const char* name : {"cz", "admm-thesis"}) EXPECT_THROW(make_solver(name, d), std::invalid_argument) << name;
+}
+
+/// States along random rays at the given fractions of where the hard QP turns
+/// infeasible (found by admm's certificate), from `seed`.
+std::vector<Eigen::VectorXd> rays(const MpcQpData& d, int count, const std::vector<double>& fractions, unsigned seed) {
+  SolverOptions o;
+  o.warm_start = false;
+  auto admm = make_solver("admm", d, o);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  std::vector<Eigen::VectorXd> out;
+  for (int k = 0; k < count; ++k) {
+    Eigen::VectorXd dir(d.n);
+    for (int i = 0; i < d.n; ++i) dir(i) = normal(rng);
+    dir /= dir.cwiseAbs().maxCoeff();
+    double lo = 0.0, hi = 1.0;
+    while (admm->solve(hi * dir).status == SolveStatus::Converged && hi < 1e3) hi *= 2.0;
+    for (int it = 0; it < 20; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (admm->solve(mid * dir).status == SolveStatus::Converged ? lo : hi) = mid;
+    }
+    for (double f : fractions) out.push_back(f * (f < 1.0 ? lo : hi) * dir);
+  }
+  return out;
+}
+
+TEST(SoftConstraints, ThePenaltyIsExactOnOtherRaysAtTheCalibratedDepth) {
+  // The artifact's penalty (calibrated at design, soft_penalty.hpp, at 0.1 to 0.3 of
+  // the feasibility boundary) on other rays than the calibration's, over the same
+  // fractions: the softened QP gives the hard optimum with no slack. (Nearer the
+  // boundary the multiplier sums grow without bound and no finite penalty is exact:
+  // the runtime solves the softened QP only where the hard one is infeasible.)
+  const ControllerArtifact& a = artifact();
+  ASSERT_GT(a.soft_penalty, 0.0) << "the shipped configuration enables soft constraints";
+  const MpcQpData hard = a.qp(), soft = a.qp(false, true);
+  SolverOptions o;
+  o.warm_start = false;
+  auto ref_hard = make_solver("reference", hard, o), ref_soft = make_solver("reference", soft, o);
+  auto admm_soft = make_solver("admm", soft, o);
+  double worst_slack = 0.0, worst_du = 0.0, worst_admm = 0.0;
+  int n = 0;
+  for (const Eigen::VectorXd& x : rays(hard, 40, {0.1, 0.2, 0.3}, 99)) {
+    const SolveResult h = ref_hard->solve(x);
+    ASSERT_EQ(h.status, SolveStatus::Converged);
+    const SolveResult s = ref_soft->solve(x);
+    ASSERT_EQ(s.status, SolveStatus::Converged);
+    const SolveResult t = admm_soft->solve(x);
+    ASSERT_EQ(t.status, SolveStatus::Converged);
+    worst_slack = std::max(worst_slack, s.z.tail(soft.n).cwiseAbs().maxCoeff());
+    worst_du = std::max(worst_du, (s.z.head(h.z.size()) - h.z).cwiseAbs().maxCoeff());
+    worst_admm = std::max(worst_admm, (t.z - s.z).cwiseAbs().maxCoeff());
+    ++n;
+  }
+  std::printf("%d feasible QPs up to 0.3 of the boundary: largest slack %.2e, |z_soft - z_hard| %.2e, admm vs "
+              "reference %.2e (penalty %.4g)\n", n, worst_slack, worst_du, worst_admm, a.soft_penalty);
+  EXPECT_LT(worst_slack, 1e-8);
+  EXPECT_LT(worst_du, 1e-6);
+  EXPECT_LT(worst_admm, 1e-6);
+}
+
+TEST(SoftConstraints, AnInfeasibleQpViolatesLeastAndTheSolversAgree) {
+  const ControllerArtifact& a = artifact();
+  const MpcQpData hard = a.qp(), soft = a.qp(false, true);
+  SolverOptions o;
+  o.warm_start = false;
+  auto admm_hard = make_solver("admm", hard, o);
+  auto ref_soft = make_solver("reference", soft, o), admm_soft = make_solver("admm", soft, o);
+  int n = 0;
+  for (const Eigen::VectorXd& x : rays(hard, 20, {1.5, 3.0}, 5)) {
+    ASSERT_EQ(admm_hard->solve(x).status, SolveStatus::Infeasible);
+    const SolveResult r = ref_soft->solve(x), s = admm_soft->solve(x);
+    ASSERT_EQ(r.status, SolveStatus::Converged);
+    ASSERT_EQ(s.status, SolveStatus::Converged);
+    const CondensedQp qp = ref_soft->problem().instance(x);
+    const KktResiduals kr = kkt_residuals(qp, r.z, r.y), ks = kkt_residuals(qp, s.z, s.y);
+    const double scale = std::max(1.0, qp.f.cwiseAbs().maxCoeff());  // the penalty's size
+    for (const KktResiduals& k : {kr, ks}) {
+      EXPECT_LT(k.primal, 1e-9);
+      EXPECT_LT(k.stationarity / scale, 1e-10);
+      EXPECT_LT(k.complementarity / scale, 1e-10);
+      EXPECT_LT(k.dual_sign / scale, 1e-10);
+    }
+    EXPECT_NEAR(qp_objective(qp, s.z), qp_objective(qp, r.z), 1e-8 * std::max(1.0, std::abs(qp_objective(qp, r.z))));
+    EXPECT_GT(r.z.tail(soft.n).maxCoeff(), 1e-6);  // a slack is used
+    // Inputs stay hard: inside the tightened input set.
+    for (int i = 0; i < hard.M; ++i) {
+      EXPECT_TRUE(hard.u_bar.contains(r.z.segment(i * hard.m, hard.m), 1e-9));
+    }
+    ++n;
+  }
+  EXPECT_EQ(n, 40);
+}
+
+TEST(SoftConstraints, TheRecoveryFliesTheSoftenedQpOnlyWhenTheHardOneIsInfeasible) {
+  const ControllerArtifact& a = artifact();
+  SolverOptions o;
+  o.warm_start = false;
+  auto rec = make_controller_solver("admm", a, o, "", false);
+  auto hard = make_solver("admm", a.qp(), o);
+  const std::vector<Eigen::VectorXd> xs = rays(a.qp(), 10, {0.5, 2.0}, 17);
+  int softened = 0;
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    const SolveResult& h = hard->solve(xs[k]);
+    const SolveStatus hs = h.status;
+    const Eigen::VectorXd hz = h.z;
+    const SolveResult& r = rec->solve(xs[k]);
+    EXPECT_EQ(r.status, SolveStatus::Converged);
+    EXPECT_EQ(r.z.size(), hz.size());  // the hard layout
+    if (hs == SolveStatus::Infeasible) {
+      EXPECT_TRUE(r.softened);
+      EXPECT_GT(r.slack_max, 0.0);
+      EXPECT_GE(r.slack_state, 0);
+      ++softened;
+    } else {
+      EXPECT_FALSE(r.softened);
+      EXPECT_LT((r.z - hz).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+  EXPECT_EQ(softened, 10);
+  // Calibration: the penalty covers the sampled multipliers with the safety factor.
+  const SoftPenaltyCalibration c = calibrate_soft_penalty(a, 10.0, 10, 3);
+  EXPECT_EQ(c.samples, 30);  // 0.1 to 0.3 of a feasible ray: all feasible (convex set)
+  EXPECT_GT(c.largest_multiplier_sum, 0.0);
+  EXPECT_DOUBLE_EQ(c.penalty, std::max(1.0, 10.0 * c.largest_multiplier_sum));
+}
+
+}  // namespace
+}  // namespace tmpc

@@ -1,0 +1,148 @@
+// The Kalman filter of the offset-free error model and the output-feedback tube
+// (estimator.hpp), on a double integrator with a force disturbance: the gain against
+// the filter Riccati equation written here, the filter's error statistics against its
+// covariance by simulation, the disturbance estimate against the true force, and the
+// tube's sets by simulating the closed loop under bounded noise (sampled invariance).
+#include <random>
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "tmpc/sets/box.hpp"
+#include "tmpc/synthesis/estimator.hpp"
+#include "tmpc/synthesis/lqr.hpp"
+
+namespace tmpc {
+namespace {
+
+constexpr double T = 0.05;
+
+struct Plant {
+  Eigen::MatrixXd A, B, D;
+};
+
+Plant double_integrator() {
+  Plant p;
+  p.A = (Eigen::Matrix2d() << 1, T, 0, 1).finished();
+  p.B = (Eigen::Vector2d() << 0.5 * T * T, T).finished();
+  p.D = (Eigen::Vector2d() << 0.5 * T * T, T).finished();  // a force on the mass
+  return p;
+}
+
+TEST(Kalman, TheGainSolvesTheFilterRiccatiEquation) {
+  const Plant p = double_integrator();
+  const Eigen::Matrix3d Q = Eigen::Vector3d(1e-6, 1e-6, 1e-4).asDiagonal();
+  const Eigen::Matrix<double, 1, 1> R = Eigen::Matrix<double, 1, 1>::Constant(1e-4);
+  const KalmanDesign k = design_kalman(p.A, p.B, p.D, Eigen::MatrixXd(2, 0), {0}, Q, R);
+  ASSERT_EQ(k.L.rows(), 3);
+  ASSERT_EQ(k.L.cols(), 1);
+  // P = A P A' - A P C' (C P C' + R)^-1 C P A' + Q, written from the definition.
+  const Eigen::MatrixXd& A = k.A_a;
+  const Eigen::MatrixXd& C = k.C;
+  const Eigen::MatrixXd S = C * k.P * C.transpose() + R;
+  const Eigen::MatrixXd rhs = A * k.P * A.transpose() - A * k.P * C.transpose() * S.inverse() * C * k.P * A.transpose() + Q;
+  EXPECT_LT((rhs - k.P).norm() / k.P.norm(), 1e-9);
+  EXPECT_LT((k.L - k.P * C.transpose() * S.inverse()).norm(), 1e-9 * k.L.norm());
+  EXPECT_LT(k.spectral_radius, 1.0);
+  // Undetectable: a disturbance on the velocity measured nowhere and a second copy of it.
+  const Eigen::MatrixXd D2 = (Eigen::MatrixXd(2, 2) << 0.5 * T * T, 0.5 * T * T, T, T).finished();
+  EXPECT_THROW(design_kalman(p.A, p.B, D2, Eigen::MatrixXd(2, 0), {0}, Eigen::Vector4d(1e-6, 1e-6, 1e-4, 1e-4).asDiagonal(), R),
+               std::runtime_error);
+}
+
+TEST(Kalman, TheFilterFindsTheForceAndItsErrorHasTheDesignedCovariance) {
+  const Plant p = double_integrator();
+  const Eigen::Vector3d q(1e-6, 1e-6, 1e-4);
+  const double r = 1e-4;
+  const KalmanDesign k = design_kalman(p.A, p.B, p.D, Eigen::MatrixXd(2, 0), {0}, q.asDiagonal(),
+                                       Eigen::Matrix<double, 1, 1>::Constant(r));
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal;
+  Eigen::Vector3d xi(0.3, 0.0, 0.0), est = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  const int burn = 2000, steps = 40000;
+  for (int t = 0; t < burn + steps; ++t) {
+    const double u = -2.0 * est(0) - 1.5 * est(1) - est(2);  // any input: the filter sees it
+    Eigen::Vector3d w;
+    for (int i = 0; i < 3; ++i) w(i) = std::sqrt(q(i)) * normal(rng);
+    xi = k.A_a * xi + k.B_a * u + w;
+    const double y = xi(0) + std::sqrt(r) * normal(rng);
+    const Eigen::Vector3d pred = k.A_a * est + k.B_a * u;
+    est = pred + k.L * (y - pred(0));
+    if (t >= burn) {
+      const Eigen::Vector3d e = xi - est;
+      mean += e;
+      cov += e * e.transpose();
+    }
+  }
+  mean /= steps;
+  cov /= steps;
+  // A-posteriori covariance (I - L C) P.
+  const Eigen::Matrix3d expected = (Eigen::Matrix3d::Identity() - k.L * k.C) * k.P;
+  std::printf("error variance: simulated (%.3g, %.3g, %.3g), designed (%.3g, %.3g, %.3g); mean force error %.2e\n",
+              cov(0, 0), cov(1, 1), cov(2, 2), expected(0, 0), expected(1, 1), expected(2, 2), mean(2));
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(cov(i, i), expected(i, i), 0.15 * expected(i, i)) << i;
+  for (int i = 0; i < 3; ++i) EXPECT_LT(std::abs(mean(i)), 5.0 * std::sqrt(expected(i, i) / steps) * 30.0) << i;
+}
+
+TEST(OutputFeedbackTube, TheSetsHoldTheSimulatedLoopUnderBoundedNoise) {
+  const Plant p = double_integrator();
+  const KalmanDesign k = design_kalman(p.A, p.B, p.D, Eigen::MatrixXd(2, 0), {0}, Eigen::Vector3d(1e-6, 1e-6, 1e-4).asDiagonal(),
+                                       Eigen::Matrix<double, 1, 1>::Constant(1e-4));
+  const LqrResult lqr = solve_dlqr(p.A, p.B, Eigen::Vector2d(10.0, 1.0).asDiagonal(), Eigen::Matrix<double, 1, 1>::Constant(0.1));
+  const Eigen::MatrixXd K = lqr.K;
+  const Eigen::Vector3d W_a(1e-4, 1e-4, 2e-3);  // state mismatch, the force's change per step
+  const Eigen::VectorXd V = Eigen::VectorXd::Constant(1, 0.02);
+  const Box X = Box::symmetric(Eigen::Vector2d(1.0, 2.0)), U = Box::symmetric(Eigen::VectorXd::Constant(1, 5.0));
+  const OutputFeedbackTube t = output_feedback_tube(k, {p.A + p.B * K}, K, W_a, V, X, U, 0.05);
+  ASSERT_FALSE(t.x_bar.empty());
+  ASSERT_GT(t.noise_margin, 1.0);
+  const Zonotope E = t.E_W.plus(t.E_V);
+  // The loop: x_bar stays 0 (u_bar = 0), u = K x_hat; w and v at random corners of
+  // their boxes (the worst case the sets must hold), the force a bounded random walk.
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> coin(0, 1);
+  auto corner = [&](double h) { return coin(rng) ? h : -h; };
+  std::normal_distribution<double> normal;
+  std::vector<Eigen::Vector3d> dirs_e;
+  std::vector<Eigen::Vector2d> dirs_z;
+  std::vector<double> h_e, h_z;  // the sets' support functions in those directions
+  for (int i = 0; i < 200; ++i) {
+    dirs_e.push_back(Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized());
+    dirs_z.push_back(Eigen::Vector2d(normal(rng), normal(rng)).normalized());
+    h_e.push_back(E.support(dirs_e.back()));
+    h_z.push_back(t.Z_c.support(dirs_z.back()));
+  }
+  double worst_e = 0.0, worst_z = 0.0;
+  for (int run = 0; run < 20; ++run) {
+    Eigen::Vector3d xi = Eigen::Vector3d::Zero(), est = Eigen::Vector3d::Zero();
+    for (int step = 0; step < 3000; ++step) {
+      const double u = (K * est.head(2))(0);
+      const Eigen::Vector3d w(corner(W_a(0)), corner(W_a(1)), corner(W_a(2)));
+      xi = k.A_a * xi + k.B_a * u + w;
+      const double y = xi(0) + corner(V(0));
+      const Eigen::Vector3d pred = k.A_a * est + k.B_a * u;
+      est = pred + k.L * (y - pred(0));
+      const Eigen::Vector3d e = xi - est;
+      const Eigen::Vector2d delta = est.head(2);
+      for (std::size_t i = 0; i < dirs_e.size(); ++i) {
+        worst_e = std::max(worst_e, dirs_e[i].dot(e) / h_e[i]);
+        worst_z = std::max(worst_z, dirs_z[i].dot(delta) / h_z[i]);
+      }
+    }
+  }
+  std::printf("sampled: estimation error at %.3f of E's support, control error at %.3f of Z_c's (<= 1: inside); "
+              "noise margin %.3f\n", worst_e, worst_z, t.noise_margin);
+  EXPECT_LE(worst_e, 1.0);
+  EXPECT_LE(worst_z, 1.0);
+  EXPECT_GT(worst_e, 0.1);  // the samples reach into the sets: the test can fail
+  // The noise margin is where the sets empty: recomputed just below and above it.
+  const OutputFeedbackTube below = output_feedback_tube(k, {p.A + p.B * K}, K, W_a, V * (0.99 * t.noise_margin), X, U, 0.05);
+  const OutputFeedbackTube above = output_feedback_tube(k, {p.A + p.B * K}, K, W_a, V * (1.01 * t.noise_margin), X, U, 0.05);
+  EXPECT_FALSE(below.x_bar.empty() || below.u_bar.empty());
+  EXPECT_TRUE(above.x_bar.empty() || above.u_bar.empty());
+}
+
+}  // namespace
+}  // namespace tmpc
