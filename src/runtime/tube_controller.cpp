@@ -95,9 +95,14 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
 void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   x_bar_ = a_.N_x.cwiseProduct(x_tilde);
   if (kalman_) {
+    // The filter starts from the prior of a vehicle on its reference (zero error, no
+    // disturbance) and takes the first measurement through its gain like every later
+    // one; the nominal state starts at that first estimate (in prepare()). Starting at
+    // the raw measurement put its noise into the nominal trajectory, which the QP then
+    // flew: a servo-rate kick of 1.4 times its bound in the first 0.1 s.
     xi_.setZero();
-    xi_.head(a_.measured) = x_bar_.head(a_.measured);
-    x_hat_ = x_bar_;
+    x_hat_.setZero();
+    from_prior_ = true;
   }
   d_hat_.setZero();
   c_hat_.setZero();
@@ -127,6 +132,10 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       x_hat_.tail(ni) = next_.tail(ni);
       xi_pred_.noalias() = A_a_ * xi_;
       xi_pred_.noalias() += B_a_ * u_prev_n_;
+    } else if (from_prior_) {
+      // The first period after reset(): predicted = the prior; the integrals measured.
+      x_hat_.tail(ni) = x_n_.tail(ni);
+      xi_pred_ = xi_;
     } else {
       // A restart: the measured rows and the integrals from this state, the rest kept.
       x_hat_.tail(ni) = x_n_.tail(ni);
@@ -142,6 +151,10 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     c_hat_.head(p).noalias() = E_c_ * xi_.tail(E_c_.cols());
     x_s_.noalias() = Tx_ * d_hat_;
     u_s_.noalias() = Tu_ * d_hat_;
+    if (from_prior_) {
+      x_bar_ = x_hat_;
+      from_prior_ = false;
+    }
   }
   out_.in_state_box = a_.X.contains(x_n_);
   if (opt_.offset_free && !kalman_) {

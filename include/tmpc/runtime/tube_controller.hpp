@@ -118,6 +118,7 @@ class TubeController {
   bool have_prev_ = false;
   // Kalman filter (estimator "kalman").
   bool kalman_ = false;
+  bool from_prior_ = false;  // the Kalman filter starts from its prior at the next prepare()
   Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;
   std::vector<int> rows_;
   Eigen::VectorXd xi_, xi_pred_, innov_, x_hat_;
