@@ -25,7 +25,7 @@ DISTURBANCE_TIMES = []
 
 def read(path):
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     if not rows:
         raise SystemExit(f"{path}: no telemetry rows")
     cols = {k: [] for k in rows[0]}

@@ -8,33 +8,38 @@
 
 namespace tmpc::cli {
 
-namespace {
-int run_devices() {
+std::vector<std::string> device_lines(bool* usable) {
+  std::vector<std::string> out;
+  if (usable != nullptr) *usable = false;
 #ifdef TMPC_HAVE_CUDA
   cuda::DeviceInfo devs[16];
   char msg[512];
   const int n = cuda::query_devices(devs, 16, msg, sizeof msg);
-  std::printf("built with CUDA runtime %d\n", cuda::runtime_version());
+  out.push_back("built with CUDA runtime " + std::to_string(cuda::runtime_version()));
   if (n < 0) {
-    std::printf("no usable CUDA device: %s\n", msg);
-    return 0;
+    out.push_back(std::string("no usable CUDA device: ") + msg);
+    return out;
   }
-  if (n == 0) std::printf("no CUDA device found\n");
+  if (n == 0) out.push_back("no CUDA device found");
   for (int i = 0; i < n; ++i) {
-    std::printf("device %d: %s, sm_%d%d, %d SMs, %.1f GiB%s\n", devs[i].index, devs[i].name, devs[i].major,
-                devs[i].minor, devs[i].multiprocessors, static_cast<double>(devs[i].global_memory) / (1 << 30),
-                devs[i].integrated ? ", integrated (zero-copy)" : "");
+    char line[256];
+    std::snprintf(line, sizeof line, "device %d: %s, sm_%d%d, %d SMs, %.1f GiB%s", devs[i].index, devs[i].name,
+                  devs[i].major, devs[i].minor, devs[i].multiprocessors,
+                  static_cast<double>(devs[i].global_memory) / (1 << 30), devs[i].integrated ? ", integrated (zero-copy)" : "");
+    out.push_back(line);
   }
+  if (usable != nullptr) *usable = n > 0;
 #else
-  std::printf("built without CUDA (TMPC_WITH_CUDA=OFF or nvcc not found): CPU solvers only\n");
+  out.push_back("built without CUDA (TMPC_WITH_CUDA=OFF or nvcc not found): CPU solvers only");
 #endif
-  return 0;
+  return out;
 }
-}  // namespace
 
 void register_devices(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("devices", "List the CUDA devices this build can use");
-  sub->callback([]() { run_devices(); });
+  sub->callback([]() {
+    for (const std::string& l : device_lines(nullptr)) std::printf("%s\n", l.c_str());
+  });
 }
 
 }  // namespace tmpc::cli

@@ -78,7 +78,7 @@ nlohmann::json link_json(const io::LinkCounts& c) {
 }
 
 struct RtCli {
-  std::string controller, config, scenario = kDefaultScenario, port, solver = "admm", explicit_law, telemetry,
+  std::string controller, config, scenario = kDefaultScenario, port, solver = "auto", explicit_law, telemetry,
       out = "out/hil", plant, tube_law;
   int baud = 921600, priority = 0, cpu = -1, run = -1;
   long seed = -1;
@@ -98,7 +98,7 @@ ControllerLoopOptions controller_options(const RtCli& o, const ControllerArtifac
   require_flight(a, *sc.trajectory, o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration,
                  "scenario " + sc.name);
   c.trajectory = sc.trajectory;
-  c.solver = o.solver;
+  c.solver = resolve_solver(o.solver, a, o.tube_law, c.deadline_fraction, "tmpc controller", &c.solver_note);
   c.tube_law = o.tube_law;
   c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   c.duration_s = o.duration;
@@ -164,11 +164,12 @@ void run_hil(const RtCli& o) {
   const ControllerLoopStats cs = run_controller_loop(a, *port, c, g_stop);
   plant.join();
   std::printf("hil over %s, scenario %s, %.1f s, solver %s%s\n", pty.slave_path.c_str(), sc.name.c_str(), duration,
-              o.solver.c_str(), sc.disturbances.empty() ? ", no disturbance" : "");
+              c.solver.c_str(), sc.disturbances.empty() ? ", no disturbance" : "");
   print_plant(ps);
   print_controller(cs);
   nlohmann::json j;
   for (std::size_t i = 0; i < ps.rmse.size(); ++i) j["rmse"][a.state_names[i]] = ps.rmse[i];
+  j["solver"] = {{"name", c.solver}, {"why", c.solver_note}};
   j["periods"] = cs.periods;
   // Every period without the optimizer's answer in time: late, still busy with an
   // abandoned solve, or slept through entirely.
@@ -205,7 +206,7 @@ void register_realtime(CLI::App& app) {
   CLI::App* sc = app.add_subcommand("controller", "The on-board controller over a serial port (real time)");
   sc->add_option("--controller", c->controller, "controller artifact")->required()->check(CLI::ExistingFile);
   sc->add_option("--port", c->port, "serial device")->required();
-  sc->add_option("--solver", c->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
+  sc->add_option("--solver", c->solver, flight_solver_help())->check(CLI::IsMember(flight_solver_choices()));
   sc->add_option("--explicit", c->explicit_law, "explicit law (default: CONTROLLER + 'x')");
   sc->add_option("--tube-law", c->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
@@ -231,7 +232,7 @@ void register_realtime(CLI::App& app) {
   sh->add_option("--config", h->config, "a design config whose vehicle the plant flies (default: the artifact's)")
       ->check(CLI::ExistingFile);
   sh->add_option("--controller", h->controller, "controller artifact")->required()->check(CLI::ExistingFile);
-  sh->add_option("--solver", h->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
+  sh->add_option("--solver", h->solver, flight_solver_help())->check(CLI::IsMember(flight_solver_choices()));
   sh->add_option("--explicit", h->explicit_law, "explicit law (default: CONTROLLER + 'x')");
   sh->add_option("--tube-law", h->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));

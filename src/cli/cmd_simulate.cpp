@@ -24,7 +24,7 @@ namespace tmpc::cli {
 namespace {
 
 struct SimOptions {
-  std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "admm", plant, explicit_law;
+  std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
   bool no_disturbance = false, reinit = false;
   std::string tube_law;
@@ -78,7 +78,7 @@ void run_campaign(const SimOptions& o, const ControllerArtifact& a, const Scenar
   m.seed = seed;
   std::printf("Monte Carlo: %d runs of %s, masses and inertias +-%.0f %% (%s, seed %u), solver %s\n", o.monte_carlo,
               sc.name.c_str(), 100.0 * sc.plant.random.fraction, sc.plant.random.distribution.c_str(), seed,
-              o.solver.c_str());
+              m.solver.c_str());
   for (int k = 0; k < o.monte_carlo; ++k) {
     const std::string dir = o.out + "/run_" + std::to_string(k);
     std::filesystem::create_directories(dir);
@@ -110,7 +110,7 @@ void run_simulate(const SimOptions& o) {
     plant_vehicle = plant_cfg.vehicle;
     m.plant_vehicle = &plant_vehicle;
   }
-  m.solver = o.solver;
+  m.solver = resolve_solver(o.solver, a, o.tube_law, 0.8, "tmpc simulate");
   m.plant = o.plant;
   m.duration = o.duration;
   m.run = o.run;
@@ -130,7 +130,7 @@ void run_simulate(const SimOptions& o) {
   const double duration = o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration;
   std::printf("scenario %s (%s), %.0f s, plant %s%s, solver %s, %s tube law%s%s%s\n", sc.name.c_str(),
               sc.trajectory->description().c_str(), duration, r.plant.c_str(), o.config.empty() ? "" : (" of " + o.config).c_str(),
-              o.solver.c_str(), r.offset_free ? "offset-free" : "Mayne's",
+              m.solver.c_str(), r.offset_free ? "offset-free" : "Mayne's",
               sc.disturbances.empty() ? ", no disturbance" : (", " + std::to_string(sc.disturbances.events().size()) + " disturbance events").c_str(),
               r.noisy ? ", noisy sensors" : "", o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "");
   print_metrics(r);
@@ -146,7 +146,7 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--scenario", o->scenario, "scenario file (default: " + std::string(kDefaultScenario) + ")");
   sub->add_option("--config", o->config, "a design config whose vehicle the plant flies (default: the artifact's)")
       ->check(CLI::ExistingFile);
-  sub->add_option("--solver", o->solver, solver_choices_help())->check(CLI::IsMember(solver_choices()));
+  sub->add_option("--solver", o->solver, flight_solver_help())->check(CLI::IsMember(flight_solver_choices()));
   sub->add_option("--explicit", o->explicit_law, "explicit law for --solver explicit (default: CONTROLLER + 'x')");
   sub->add_option("--plant", o->plant, "el | mujoco (default: the scenario's)")->check(CLI::IsMember({"el", "mujoco"}));
   sub->add_option("--duration", o->duration, "seconds (at most the scenario's)")->check(CLI::PositiveNumber);

@@ -28,6 +28,10 @@ void register_simulate(CLI::App& app);
 
 /// `tmpc devices`: CUDA devices available to this build.
 void register_devices(CLI::App& app);
+/// What `tmpc devices` prints, a line each; `usable`: a CUDA device answered.
+std::vector<std::string> device_lines(bool* usable);
+/// `tmpc doctor`: the board's real-time set-up (runtime/doctor.hpp).
+void register_doctor(CLI::App& app);
 void register_explicit(CLI::App& app);
 void register_compare(CLI::App& app);
 void register_realtime(CLI::App& app);
@@ -38,6 +42,20 @@ void register_check(CLI::App& app);
 std::vector<std::string> solver_choices();
 /// The same as "a | b | ..." for help texts.
 std::string solver_choices_help();
+/// --solver of the commands that fly (controller, hil, simulate): "auto" and solver_choices().
+std::vector<std::string> flight_solver_choices();
+std::string flight_solver_help();
+}  // namespace tmpc::cli
+
+namespace tmpc {
+struct ControllerArtifact;
+}
+
+namespace tmpc::cli {
+/// `name`, or for "auto" the solver runtime/solver_choice.hpp chooses for this artifact
+/// and tube law (said on stderr, prefixed by `who`; the reason into `why`).
+std::string resolve_solver(const std::string& name, const ControllerArtifact& a, const std::string& tube_law,
+                           double deadline_fraction, const char* who, std::string* why = nullptr);
 
 }  // namespace tmpc::cli
 

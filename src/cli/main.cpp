@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   tmpc::cli::register_compare(app);
   tmpc::cli::register_realtime(app);
   tmpc::cli::register_check(app);
+  tmpc::cli::register_doctor(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {  // a command's verdict (tmpc check: refused), already printed

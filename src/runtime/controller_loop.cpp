@@ -66,7 +66,8 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   std::unique_ptr<TelemetryWriter> telemetry;
   if (!o.telemetry_csv.empty()) {
     telemetry = std::make_unique<TelemetryWriter>(
-        o.telemetry_csv, TelemetryLayout{a.state_names, a.input_names, p, std::min(3, static_cast<int>(a.D.cols()))});
+        o.telemetry_csv, TelemetryLayout{a.state_names, a.input_names, p, std::min(3, static_cast<int>(a.D.cols())),
+                                        o.solver_note.empty() ? "" : "solver " + o.solver + ": " + o.solver_note});
   }
   std::vector<std::uint8_t> out;
   out.reserve(256);

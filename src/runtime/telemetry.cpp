@@ -17,6 +17,7 @@ TelemetryWriter::TelemetryWriter(const std::string& path, TelemetryLayout layout
   }
   f_ = std::fopen(path.c_str(), "w");
   if (f_ == nullptr) throw std::runtime_error(path + ": cannot open the telemetry file for writing");
+  if (!layout_.comment.empty()) std::fprintf(f_, "# %s\n", layout_.comment.c_str());
   std::fprintf(f_, "period,t");
   for (const std::string& s : layout_.state_names) std::fprintf(f_, ",e_%s", s.c_str());
   for (int i = 0; i < layout_.measured; ++i) std::fprintf(f_, ",r_%s", layout_.state_names[static_cast<std::size_t>(i)].c_str());

@@ -9,6 +9,7 @@ and its figures are parsed and compared with what the README states.
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 
@@ -139,8 +140,79 @@ elif check == "second-system":
     out = p.stdout + p.stderr
     need(re.search(r"states \d+ accepted, 0 rejected", out) is not None, f"hil link: {out}")
     need(re.search(r"telemetry \d+ records, 0 dropped", out) is not None, f"hil telemetry: {out}")
-    header = open(os.path.join(scratch, "hil", "telemetry.csv")).readline()
+    with open(os.path.join(scratch, "hil", "telemetry.csv")) as f:
+        first, header = f.readline(), f.readline()
+    # --solver auto (the default) says which solver flies and why in the first line.
+    need(re.match(r"# solver admm: .*(no GPU solver in this build|admm-cuda unavailable)", first) is not None,
+         f"telemetry's first line: {first}")
     need(header.startswith("period,t,e_p1,e_p2,e_v1,e_v2,e_int_p1,e_int_p2,"), f"telemetry header: {header}")
+    hj = json.load(open(os.path.join(scratch, "hil", "metrics.json")))
+    need(hj["solver"]["name"] == "admm" and hj["solver"]["why"] != "", f"hil metrics solver: {hj.get('solver')}")
+elif check == "doctor":
+    # Fake procfs/sysfs trees: a board set up per the README passes (exit 0), a missing
+    # serial device fails (exit 1), each finding printed with what to do.
+    def tree(name, files):
+        root = os.path.join(scratch, name)
+        for rel, text in files.items():
+            path = os.path.join(root, rel)
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            open(path, "w").write(text)
+        return ["--proc", os.path.join(root, "proc"), "--sys", os.path.join(root, "sys")]
+    good = tree("good", {
+        "proc/version": "Linux version 5.15.148-rt-tegra #1 SMP PREEMPT_RT\n",
+        "proc/sys/kernel/sched_rt_runtime_us": "-1\n",
+        "sys/devices/system/cpu/cpu0/cpufreq/scaling_governor": "performance\n",
+        "sys/devices/system/cpu/isolated": "0\n",
+        "proc/self/limits": "Max locked memory  unlimited  unlimited  bytes\nMax realtime priority  99  99\n",
+    })
+    out = run("doctor", *good, "--cpu", "0", "--port", "/dev/null", "--seconds", "0").stdout
+    for line in ("kernel           ok    PREEMPT_RT", "cpu governor     ok    performance on all 1 CPUs",
+                 "serial device    ok    /dev/null", "verdict: the controller can run here"):
+        need(line in out, f"doctor (good board) lacks '{line}': {out}")
+    bad = tree("bad", {"proc/version": "Linux version 6.1.0 #1 SMP PREEMPT_DYNAMIC\n",
+                       "sys/devices/system/cpu/isolated": "\n"})
+    p = run("doctor", *bad, "--port", os.path.join(scratch, "ttyNONE"), "--seconds", "0", expect_rc=1)
+    for line in ("kernel           warn  preemptible (PREEMPT), not PREEMPT_RT", "-> install a PREEMPT_RT kernel",
+                 "isolated cpus    warn  none", "serial device    FAIL", "verdict: the controller cannot"):
+        need(line in p.stdout, f"doctor (bad board) lacks '{line}': {p.stdout}")
+    # A short real latency run: measured and judged (this VM is not real-time: either verdict).
+    p = run("doctor", "--seconds", "0.2", expect_rc=None)
+    need(p.returncode in (0, 1) and re.search(r"wake-up latency +(ok|warn|FAIL) +200 wake-ups: p50 \d+ us, p99 \d+ us", p.stdout)
+         is not None, f"doctor latency run: rc {p.returncode}: {p.stdout}{p.stderr}")
+elif check == "service":
+    # scripts/install_service.sh into a staging root: the unit runs the controller with
+    # the artifact, port, priority, CPU, memlock, restart and telemetry asked for.
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(config)))
+    script = os.path.join(repo, "scripts", "install_service.sh")
+    art = os.path.join(scratch, "c.tmpc")
+    open(art, "w").write("stand-in: the script does not read it\n")
+    stage = os.path.join(scratch, "root")
+    def install(*args, rc=0):
+        p = subprocess.run(["bash", script, "--bin", tmpc, "--root", stage, *args], capture_output=True, text=True, timeout=60)
+        need(p.returncode == rc, f"install_service {' '.join(args)}: exit {p.returncode}, expected {rc}: {p.stderr}")
+        return p
+    install("--controller", art, "--port", "/dev/ttyTHS0", "--rt-priority", "85", "--cpu", "3", "--telemetry-dir", "/var/log/tmpc")
+    unit = open(os.path.join(stage, "etc/systemd/system/tmpc-controller.service")).read()
+    need("@" not in unit.split("[Unit]", 1)[1], f"unfilled fields in the unit: {unit}")
+    keys = dict(l.split("=", 1) for l in unit.splitlines() if "=" in l and not l.startswith("#"))
+    start = keys.get("ExecStart", "")
+    for part in (f"{tmpc} controller --controller {art} --port /dev/ttyTHS0", "--rt-priority 85 --cpu 3", "--solver auto",
+                 "--telemetry /var/log/tmpc/telemetry-$$(date +%%Y%%m%%d-%%H%%M%%S).csv"):
+        need(part in start, f"ExecStart lacks '{part}': {start}")
+    for k, v in (("Restart", "on-failure"), ("LimitRTPRIO", "85"), ("LimitMEMLOCK", "infinity"), ("CPUAffinity", "3"),
+                 ("WantedBy", "multi-user.target")):
+        need(keys.get(k) == v, f"{k}={keys.get(k)}, expected {v}")
+    need(keys.get("ExecStartPre", "").startswith(f"-{tmpc} doctor --port /dev/ttyTHS0"), f"ExecStartPre: {keys.get('ExecStartPre')}")
+    need(os.path.isdir(os.path.join(stage, "var/log/tmpc")), "telemetry directory not made")
+    if shutil.which("systemd-analyze"):
+        p = subprocess.run(["systemd-analyze", "verify", "--root", stage, "tmpc-controller.service"], capture_output=True, text=True)
+        print(f"systemd-analyze verify: exit {p.returncode} {p.stderr.strip()}")
+    # Bad input: named.
+    need("--port DEV is required" in install("--controller", art, rc=2).stderr, "no port: not named")
+    need("--rt-priority must be 1..99" in install("--controller", art, "--port", "/dev/x", "--rt-priority", "0", rc=2).stderr,
+         "priority 0: not named")
+    need("no such controller artifact" in install("--controller", art + ".missing", "--port", "/dev/x", rc=2).stderr,
+         "missing artifact: not named")
 else:
     sys.exit(f"unknown check {check}")
 

@@ -31,6 +31,7 @@ namespace tmpc {
 struct ControllerLoopOptions {
   std::shared_ptr<const Trajectory> trajectory;  ///< what to fly (checked against the envelope first)
   std::string solver = "admm";
+  std::string solver_note;           ///< why this solver (--solver auto): the telemetry's first line
   std::string explicit_law;          ///< for solver "explicit"
   std::string tube_law;              ///< "" (the config's), "mayne" or "offset-free"
   double deadline_fraction = 0.8;    ///< the optimizer's result counts until this fraction of the period

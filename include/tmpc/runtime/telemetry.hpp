@@ -44,6 +44,7 @@ struct TelemetryLayout {
   std::vector<std::string> state_names, input_names;
   int measured = 0;
   int disturbances = 0;  ///< d_hat entries (at most 3)
+  std::string comment;   ///< non-empty: a first line "# comment" (e.g. why this solver flies)
 };
 
 /// Lock-free ring for one producer and one consumer; capacity rounded up to a power of 2.
