@@ -171,7 +171,10 @@ TEST(PlantLoop, AKilledAndRestartedPlantReconnectsAndTheMissionTracksAgain) {
   }
   if (r.host_stall_ms >= 6.0 * test::kWallTimeScale) GTEST_SKIP() << "the host stalled threads by " << r.host_stall_ms << " ms in three runs";
   // The new plant got the law within a few periods and tracks the mission from its start.
-  EXPECT_LE(r.plant_b.periods_without_control, 2);
+  EXPECT_LE(r.plant_b.periods_without_control, 2)
+      << "new plant: controls " << io::summary(r.plant_b.link) << ", longest silence " << r.plant_b.longest_silence_periods
+      << " periods; controller: states " << io::summary(r.ctrl_a.link) << ", " << r.ctrl_a.states << " periods with a state, "
+      << r.ctrl_a.restarts << " law restarts, " << r.ctrl_a.safe_periods << " safe, " << r.ctrl_a.skipped << " skipped";
   EXPECT_EQ(r.plant_b.safe_command_periods, 0);
   EXPECT_LT(r.plant_b.max_position_error, 0.01);
   EXPECT_LT(r.plant_b.max_position_error_final_s, 0.01);

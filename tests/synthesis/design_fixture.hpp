@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -69,8 +70,15 @@ inline const ControllerArtifact& mass_spring_artifact() {
 /// the artifact (a design takes seconds, a minute under the sanitizers). The cache key
 /// is `tag`, the config text's CRC and this executable's modification time, so a
 /// rebuilt test (or library) designs it anew; `make` designs it.
+///
+/// With TMPC_TEST_ARTIFACTS=DIR in the environment, DIR/<tag>.tmpc is loaded instead
+/// (scripts/cross_arm64.sh: the host's designs for tests run under emulation, where a
+/// design takes many minutes; the loader's semantic checks still run on it).
 template <class Make>
 ControllerArtifact cached_artifact(const std::string& tag, const std::string& config_text, Make make) {
+  if (const char* dir = std::getenv("TMPC_TEST_ARTIFACTS"); dir != nullptr && *dir != '\0') {
+    return load_artifact(std::string(dir) + "/" + tag + ".tmpc");
+  }
   struct stat st {};
   const long stamp = ::stat("/proc/self/exe", &st) == 0 ? static_cast<long>(st.st_mtime) : 0;
   const std::string key =
