@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tmpc/runtime/controller_solver.hpp"
+#include "tmpc/runtime/percentiles.hpp"
 #include "tmpc/runtime/reference_source.hpp"
 #include "tmpc/runtime/state_gate.hpp"
 #include "tmpc/runtime/telemetry.hpp"
@@ -17,13 +18,6 @@
 namespace tmpc {
 
 namespace {
-
-/// Percentiles of the per-period samples, after the loop.
-double percentile(std::vector<double>& v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
-}
 
 }  // namespace
 

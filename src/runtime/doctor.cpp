@@ -12,6 +12,7 @@
 #include <sstream>
 #include <thread>
 
+#include "tmpc/runtime/percentiles.hpp"
 #include "tmpc/runtime/realtime.hpp"
 
 namespace tmpc {
@@ -53,8 +54,7 @@ Finding kernel(const DoctorEnvironment& e) {
     f.found = "PREEMPT_RT";
     return f;
   }
-  const bool preempt = version.find(" PREEMPT ") != std::string::npos || version.find("PREEMPT_DYNAMIC") != std::string::npos ||
-                       version.find(" PREEMPT") != std::string::npos;
+  const bool preempt = version.find(" PREEMPT") != std::string::npos;  // PREEMPT, PREEMPT_DYNAMIC
   f.found = version.empty() ? "unknown (no " + e.proc + "/version)" : (preempt ? "preemptible (PREEMPT), not PREEMPT_RT" : "not preemptible");
   f.advice = "install a PREEMPT_RT kernel (on a Jetson, the real-time kernel of its JetPack/L4T release); a "
              "low-latency kernel bounds the typical wake-up, not the worst";
@@ -281,14 +281,10 @@ LatencyRun measure_wakeup_latency(double seconds, double interval_s, int priorit
     }
   });
   t.join();
-  std::sort(lat.begin(), lat.end());
   r.samples = static_cast<int>(lat.size());
-  if (!lat.empty()) {
-    auto at = [&](double q) { return lat[std::min(lat.size() - 1, static_cast<std::size_t>(q * (lat.size() - 1) + 0.5))]; };
-    r.p50_us = at(0.5);
-    r.p99_us = at(0.99);
-    r.max_us = lat.back();
-  }
+  r.p50_us = percentile(lat, 0.5);
+  r.p99_us = percentile(lat, 0.99);
+  r.max_us = percentile(lat, 1.0);
   return r;
 }
 

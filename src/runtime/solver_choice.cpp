@@ -8,6 +8,7 @@
 #include <random>
 
 #include "tmpc/runtime/controller_solver.hpp"
+#include "tmpc/runtime/percentiles.hpp"
 #include "tmpc/solvers/solver.hpp"
 
 namespace tmpc {
@@ -84,12 +85,10 @@ SolverTiming time_solver(const std::string& name, const ControllerArtifact& a, b
       t.reason = "no calibration samples";
       return t;
     }
-    std::sort(times.begin(), times.end());
-    auto at = [&](double q) { return times[std::min(times.size() - 1, static_cast<std::size_t>(q * (times.size() - 1) + 0.5))]; };
     t.samples = static_cast<int>(times.size());
-    t.p50_us = at(0.5);
-    t.p99_us = at(0.99);
-    t.max_us = times.back();
+    t.p50_us = percentile(times, 0.5);
+    t.p99_us = percentile(times, 0.99);
+    t.max_us = percentile(times, 1.0);
     t.available = true;
   } catch (const std::exception& e) {
     t.reason = e.what();

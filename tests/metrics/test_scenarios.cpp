@@ -65,6 +65,8 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   EXPECT_EQ(noisy.state_constraint_violations, 0);
   EXPECT_EQ(noisy.fallback_periods, 0);
   EXPECT_NEAR(noisy.rmse[0], 0.0346, 0.02 * 0.0346);
+  EXPECT_NEAR(noisy.rmse[1], 0.0283, 0.02 * 0.0283);
+  EXPECT_NEAR(noisy.rmse[2], 0.0093, 0.02 * 0.0093);
   const MissionMetrics quiet = fly("thesis_helix", a);
   EXPECT_EQ(quiet.state_constraint_violations, 0);
   EXPECT_NEAR(quiet.rmse[0], 0.0284, 0.02 * 0.0284);
