@@ -7,7 +7,7 @@
 
 #include <Eigen/LU>
 
-#include "tmpc/explicit/lp.hpp"
+#include "tmpc/sets/lp.hpp"
 
 namespace tmpc::detail {
 

@@ -6,7 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
-#include "tmpc/explicit/lp.hpp"
+#include "tmpc/sets/lp.hpp"
 #include "tmpc/explicit/mpqp.hpp"
 
 namespace tmpc::detail {

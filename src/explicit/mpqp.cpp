@@ -15,7 +15,7 @@
 #include <Eigen/LU>
 
 #include "critical_region.hpp"
-#include "tmpc/explicit/lp.hpp"
+#include "tmpc/sets/lp.hpp"
 #include "tmpc/solvers/solver.hpp"
 
 namespace tmpc {

@@ -11,7 +11,7 @@
 #include <random>
 #include <unordered_map>
 
-#include "tmpc/explicit/lp.hpp"
+#include "tmpc/sets/lp.hpp"
 #include "tmpc/explicit/point_location.hpp"
 
 namespace tmpc {

@@ -70,6 +70,8 @@ void make_offset_free(MpcQpData& d, const Eigen::MatrixXd& Tx, const Eigen::Matr
                                 ") and Tu (" + std::to_string(Tu.rows()) + "x" + std::to_string(Tu.cols()) +
                                 ") disagree with n = " + std::to_string(d.n) + ", m = " + std::to_string(d.m));
   }
+  d.redundant_rows.clear();  // certified for the other form
+  d.domain = ParameterDomain{};
   d.Tx = Tx;
   d.Tu = Tu;
   // x(i) picks up (I + A + ... + A^(i-1)) c.

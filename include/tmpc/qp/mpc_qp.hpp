@@ -18,11 +18,22 @@
 // exact L1 penalty on one slack per state, shared by the horizon; inputs stay hard.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "tmpc/sets/box.hpp"
 
 namespace tmpc {
+
+/// A polyhedral domain of a QP's parameter: {theta : lo <= D theta <= hi}.
+struct ParameterDomain {
+  Eigen::MatrixXd D;       ///< rows over theta
+  Eigen::VectorXd lo, hi;  ///< bounds of D theta (+-infinity allowed)
+  bool empty() const { return D.rows() == 0; }
+  /// theta in the domain, each row within tol (absolute); false for a wrong size.
+  bool contains(const Eigen::VectorXd& theta, double tol = 0.0) const;
+};
 
 struct MpcQpData {
   int n = 0, m = 0, N = 0, M = 0;
@@ -38,6 +49,11 @@ struct MpcQpData {
   /// exceeds every state's sum of multipliers over the horizon (design.hpp computes it).
   double soft_penalty = 0.0;
   bool soft() const { return soft_penalty > 0.0; }
+  /// Rows of the hard QP (ParametricQp::from_mpc's numbering) certified by LPs never to
+  /// bind while the parameter is in `domain` (redundant_rows.hpp; the artifact records
+  /// them): the active-set solver leaves them out there. Empty: none known.
+  std::vector<int> redundant_rows;
+  ParameterDomain domain;
   int variables() const { return M * m; }
   int disturbances() const { return static_cast<int>(Tx.cols()); }
   bool offset_free() const { return disturbances() > 0; }

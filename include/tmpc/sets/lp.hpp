@@ -1,5 +1,5 @@
-// Small dense linear programs for the explicit-MPC construction, solved by COIN-OR
-// CLP (Debian coinor-libclp-dev):  min c'x  s.t.  A x <= b,  Aeq x = beq,  lo <= x <= hi.
+// Small dense linear programs (the explicit-MPC construction, the QP's redundant rows), solved by
+// COIN-OR CLP (Debian coinor-libclp-dev):  min c'x  s.t.  A x <= b,  Aeq x = beq,  lo <= x <= hi.
 #pragma once
 
 #include <memory>
@@ -19,7 +19,7 @@ struct LpResult {
   Eigen::VectorXd x;
 };
 
-/// Empty Aeq (0 rows) for none; lo/hi may hold +-infinity.
+/// Empty Aeq (0 rows) for none; lo/hi may hold +-infinity, b +infinity (a row that binds nothing).
 LpResult solve_lp(const Eigen::VectorXd& c, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                   const Eigen::MatrixXd& Aeq, const Eigen::VectorXd& beq, const Eigen::VectorXd& lo,
                   const Eigen::VectorXd& hi);

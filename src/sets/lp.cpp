@@ -1,5 +1,5 @@
 // Dense LPs through CLP's ClpSimplex (dual simplex, no output).
-#include "tmpc/explicit/lp.hpp"
+#include "tmpc/sets/lp.hpp"
 
 #include <cmath>
 #include <limits>
@@ -53,7 +53,7 @@ void load(ClpSimplex& model, const Eigen::VectorXd& c, const Eigen::MatrixXd& A,
       chi(static_cast<std::size_t>(n));
   for (int i = 0; i < mi; ++i) {
     rlo[static_cast<std::size_t>(i)] = -inf;
-    rhi[static_cast<std::size_t>(i)] = b(i);
+    rhi[static_cast<std::size_t>(i)] = std::isfinite(b(i)) ? b(i) : inf;  // +infinity: no row
   }
   for (int i = 0; i < me; ++i) rlo[static_cast<std::size_t>(mi + i)] = rhi[static_cast<std::size_t>(mi + i)] = beq(i);
   for (int j = 0; j < n; ++j) {
