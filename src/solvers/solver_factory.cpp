@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "parametric_active_set.hpp"
 #include "solvers_internal.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -76,7 +77,9 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const ControllerA
   return make_solver(name, a.qp(), options);
 }
 
-bool solver_has_multipliers(const std::string& name) { return name == "admm" || name == "reference"; }
+bool solver_has_multipliers(const std::string& name) {
+  return name == "admm" || name == "reference" || name == "active-set";
+}
 
 std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options) {
   options.validate();
@@ -96,7 +99,7 @@ std::map<std::string, Registered>& registry() {
   static std::map<std::string, Registered> r;
   return r;
 }
-const char* const kBuiltin[] = {"admm", "admm-thesis", "cz", "reference"};
+const char* const kBuiltin[] = {"admm", "admm-thesis", "cz", "reference", "active-set"};
 }  // namespace
 
 void register_solver(const std::string& name, SolverMaker make, BatchSolver batch) {
@@ -141,9 +144,10 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
     const auto it = registry().find(name);
     if (it != registry().end()) registered = it->second.make;
   }
-  if (d.soft() && name != "admm" && name != "reference") {
+  if (d.soft() && name != "admm" && name != "reference" && name != "active-set") {
     throw std::invalid_argument("solver '" + name +
-                                "' does not solve the softened QP (soft state constraints); admm and reference do");
+                                "' does not solve the softened QP (soft state constraints); admm, active-set and "
+                                "reference do");
   }
   if (registered != nullptr) return registered(d, options);
   const ParametricQp qp = ParametricQp::from_mpc(d);
@@ -151,6 +155,11 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
   if (name == "admm-thesis") return std::make_unique<detail::AdmmThesis>(d, qp, options);
   if (name == "cz") return std::make_unique<detail::AdmmCz>(d, qp, options);
   if (name == "reference") return std::make_unique<detail::ReferenceQp>(qp, options);
+  if (name == "active-set") {
+    // The certificate numbers the hard QP's rows; the softened QP keeps every row.
+    static const std::vector<int> none;
+    return std::make_unique<detail::ParametricActiveSet>(qp, d.soft() ? none : d.redundant_rows, d.domain, options);
+  }
   std::string names;
   for (const std::string& n : solver_names()) names += (names.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown solver '" + name + "' (available: " + names + ")");

@@ -17,7 +17,7 @@ TEST(SolverAllocation, SolveAllocatesNothing) {
   test::g_count_all = true;  // every thread counts
   const ControllerArtifact a = test::quick_artifact();
   Eigen::VectorXd x0 = Eigen::VectorXd::Constant(24, 0.01);
-  for (const char* name : {"admm", "admm-crash", "admm-thesis", "cz", "reference"}) {
+  for (const char* name : {"admm", "admm-crash", "admm-thesis", "cz", "reference", "active-set"}) {
     SolverOptions o;
     o.max_iterations = 300;
     const bool crash = std::string(name) == "admm-crash";  // the active-set crash start

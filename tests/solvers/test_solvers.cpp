@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "case_study_qps.hpp"
-#include "tmpc/explicit/lp.hpp"
+#include "tmpc/sets/lp.hpp"
 #include "tmpc/solvers/kkt.hpp"
 #include "tmpc/solvers/solver.hpp"
 

@@ -6,6 +6,8 @@
 //   admm-thesis  Algorithm 4.3 as written, loop condition fixed (E2)
 //   cz           constrained-zonotope formulation (4.35)-(4.47), exact ADMM machinery
 //   reference    dense primal-dual interior point plus active-set polish (KKT < 1e-9)
+//   active-set   exact parametric dual active set (Goldfarb-Idnani on A H^-1 A', the
+//                parametric maps and the redundant rows computed offline)
 #pragma once
 
 #include <memory>
@@ -103,7 +105,7 @@ class QpSolver {
   virtual const SolverOptions& options() const = 0;
 };
 
-/// Solver by name: "admm", "admm-thesis", "cz", "reference". Throws
+/// Solver by name: "admm", "admm-thesis", "cz", "reference", "active-set". Throws
 /// std::invalid_argument for an unknown name or bad options.
 std::unique_ptr<QpSolver> make_solver(const std::string& name, const ControllerArtifact& a, SolverOptions options = {});
 /// Same from MPC problem data (tests, other problems than the artifact's).
@@ -111,7 +113,7 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
 /// The reference solver on any parametric QP (infinite bounds allowed): the oracle of
 /// the explicit-MPC construction and of tests on non-MPC problems.
 std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options = {});
-/// True when the solver returns multipliers of lo <= A z <= hi (admm, reference).
+/// True when the solver returns multipliers of lo <= A z <= hi (admm, reference, active-set).
 bool solver_has_multipliers(const std::string& name);
 
 /// Solvers built outside this library (the CUDA solvers "admm-cuda" and
