@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "tmpc/model/kinematic_tree.hpp"
+#include "tmpc/qp/redundant_rows.hpp"
 #include "tmpc/synthesis/design.hpp"
 
 namespace tmpc {
@@ -122,7 +123,37 @@ MpcQpData ControllerArtifact::qp(bool offset_free, bool soft) const {
     if (!(soft_penalty > 0.0)) throw std::invalid_argument("the artifact has no soft-constraint penalty (soft_constraints off)");
     d.soft_penalty = soft_penalty;
   }
+  const std::vector<int>& rows = offset_free ? redundant_rows_offset_free : redundant_rows;
+  if (!rows.empty()) {
+    d.redundant_rows = rows;
+    d.domain = offset_free ? mpc_parameter_domain(d, certificate_d_max, certificate_c_max) : mpc_parameter_domain(d);
+  }
   return d;
+}
+
+void ControllerArtifact::certify_redundant_rows() {
+  redundant_rows.clear();
+  redundant_rows_offset_free.clear();
+  MpcQpData nominal = qp(false);
+  redundant_rows = tmpc::certify_redundant_rows(nominal).rows;
+  // The offset-free certificate's estimates: along each force axis, the largest force
+  // whose steady state (x_s = Tx d, u_s = Tu d) fits the tightened sets; the residual
+  // within W's interval hull.
+  certificate_c_max = W.c.cwiseAbs() + W.G.cwiseAbs().rowwise().sum();
+  certificate_d_max.setZero(D.cols());
+  if (D.cols() == 0) return;  // no offset-free form
+  const DisturbanceTarget t = disturbance_target();
+  for (Eigen::Index j = 0; j < t.Tx.cols(); ++j) {
+    double s = HUGE_VAL;
+    auto fit = [&s](double coef, double lo, double hi) {
+      if (coef != 0.0) s = std::min(s, std::min(std::abs(lo), std::abs(hi)) / std::abs(coef));
+    };
+    for (Eigen::Index i = 0; i < t.Tx.rows(); ++i) fit(t.Tx(i, j), x_bar.lo(i), x_bar.hi(i));
+    for (Eigen::Index i = 0; i < t.Tu.rows(); ++i) fit(t.Tu(i, j), u_bar.lo(i), u_bar.hi(i));
+    certificate_d_max(j) = std::isfinite(s) ? s : 0.0;
+  }
+  MpcQpData of = qp(true);
+  redundant_rows_offset_free = tmpc::certify_redundant_rows(of, certificate_d_max, certificate_c_max).rows;
 }
 
 std::vector<int> ControllerArtifact::tracked_states() const {
@@ -224,6 +255,7 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
   if (d.output_feedback) a.estimation_error_radius = d.of.e_x_radius;
   a.soft_constraints = c.soft_constraints.enabled;
   a.soft_penalty = c.soft_constraints.enabled ? c.soft_constraints.penalty : 0.0;
+  a.certify_redundant_rows();
   return a;
 }
 
@@ -300,6 +332,10 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
   p.matrix("estimation_error_radius", a.estimation_error_radius);
   p.integer("soft_constraints", a.soft_constraints ? 1 : 0);
   p.matrix("soft_penalty", scalar(a.soft_penalty));
+  p.matrix("redundant_rows", indices(a.redundant_rows));
+  p.matrix("redundant_rows_offset_free", indices(a.redundant_rows_offset_free));
+  p.matrix("certificate_d_max", a.certificate_d_max);
+  p.matrix("certificate_c_max", a.certificate_c_max);
   return p.seal(kMagic, kArtifactVersion);
 }
 
@@ -403,6 +439,20 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
   a.estimation_error_radius = mat("estimation_error_radius", n, 1);
   a.soft_constraints = integer("soft_constraints", 0, 1) == 1;
   a.soft_penalty = mat("soft_penalty", 1, 1)(0, 0);
+  const int rows = a.M * m + a.N * n;
+  for (const auto& [name, list] : {std::pair<std::string, std::vector<int>*>{"redundant_rows", &a.redundant_rows},
+                                   {"redundant_rows_offset_free", &a.redundant_rows_offset_free}}) {
+    const Eigen::MatrixXd& v = mat(name, -1, 1);
+    for (Eigen::Index i = 0; i < v.rows(); ++i) {
+      const double x = v(i);
+      if (x != std::floor(x) || x < 0 || x >= rows || (i > 0 && x <= v(i - 1))) {
+        r.fail("record '" + name + "' entry " + std::to_string(i) + " is not an increasing index of a QP row");
+      }
+      list->push_back(static_cast<int>(x));
+    }
+  }
+  a.certificate_d_max = mat("certificate_d_max", a.D.cols(), 1);
+  a.certificate_c_max = mat("certificate_c_max", n, 1);
   r.finish();
   check_artifact(a, source);
   return a;

@@ -178,6 +178,8 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   if (!(a.noise_margin >= 0.0) || !std::isfinite(a.noise_margin)) c.fail("noise_margin", "is " + Checker::num(a.noise_margin));
   if (!(a.estimation_error_radius.array() >= 0.0).all()) c.fail("estimation_error_radius", "has a negative half-width");
   if (!(a.soft_penalty >= 0.0) || !std::isfinite(a.soft_penalty)) c.fail("soft_penalty", "is " + Checker::num(a.soft_penalty) + ", must be >= 0");
+  if (!(a.certificate_d_max.array() >= 0.0).all() || !a.certificate_d_max.allFinite()) c.fail("certificate_d_max", "has a negative or non-finite entry");
+  if (!(a.certificate_c_max.array() >= 0.0).all() || !a.certificate_c_max.allFinite()) c.fail("certificate_c_max", "has a negative or non-finite entry");
   if (a.soft_constraints && !(a.soft_penalty > 0.0)) {
     c.fail("soft_penalty", "is 0 with soft constraints on: calibrate it (tmpc design runs calibrate_soft_penalty) or configure soft_constraints.penalty");
   }

@@ -38,7 +38,7 @@
 
 namespace tmpc {
 
-constexpr std::uint32_t kArtifactVersion = 3;
+constexpr std::uint32_t kArtifactVersion = 4;
 
 /// Every artifact read or write error (the record container's error type).
 using ArtifactError = RecordFileError;
@@ -95,6 +95,14 @@ struct ControllerArtifact {
   /// (solvers/soft_penalty.hpp), which `tmpc design` runs.
   double soft_penalty = 0.0;
   bool soft_constraints = false;            ///< the config enables them
+  /// Rows of the hard QP certified by LPs never to bind (qp/redundant_rows.hpp) for the
+  /// nominal form (x0 in X_bar) and the offset-free form (also |d| <= certificate_d_max,
+  /// |c| <= certificate_c_max: every force whose steady state fits the tightened sets
+  /// along each axis, the residual within W's box); the active-set solver leaves them
+  /// out there. certify_redundant_rows() computes them (make_artifact() calls it).
+  std::vector<int> redundant_rows, redundant_rows_offset_free;
+  Eigen::VectorXd certificate_d_max, certificate_c_max;
+  void certify_redundant_rows();
 
   /// QP data (3.50)-(3.55) rebuilt from the stored model, weights and sets; with
   /// `offset_free`, in coordinates around the steady state of the disturbance d
