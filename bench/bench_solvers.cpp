@@ -7,7 +7,17 @@
 // OffsetFree/...: the default tube law's QP (parameter (x_bar - x_s, d_hat, c_hat),
 // mpc_qp.hpp) at a 1 N force along x and a small model offset, against the same
 // states' nominal QP in the same run.
+// Sets/: the three QP sets of the solver issue, each solver on the same instances:
+//   mission  the QPs the default law (offset-free, 51 parameters) solved in 20 s of the
+//            helix mission, recorded from the flight (MissionOptions::record_qps)
+//   bench    the cold states above (3 % of the tightened box at once, nominal QP)
+//   hard     along random directions at 50-95 % of the largest feasible scale (CLP
+//            bisection), nominal QP
+// in order (warm: each solve warm-started from the one before), caches hot, and
+// cache_cold: 48 MB written between solves (past this machine's L2 and L3).
 #include <algorithm>
+#include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -16,6 +26,9 @@
 
 #include "bench_main.hpp"
 #include "case_study.hpp"
+#include "tmpc/metrics/mission.hpp"
+#include "tmpc/sets/lp.hpp"
+#include "tmpc/sim/scenario.hpp"
 
 namespace {
 
@@ -31,8 +44,7 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
   o.warm_start = warm;
   std::vector<Eigen::VectorXd> xs = warm ? warm_states(nominal, 200) : cold_states(200);
   if (offset_free) {
-    const tmpc::DisturbanceTarget t = artifact().disturbance_target();
-    tmpc::make_offset_free(d, t.Tx, t.Tu);
+    d = artifact().qp(true);  // with its recorded certificate (N = 20)
     std::mt19937_64 rng(44);
     std::uniform_real_distribution<double> u(-1e-5, 1e-5);
     for (Eigen::VectorXd& x : xs) {
@@ -89,19 +101,116 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
   bench_case::time_counters(st, std::move(times));
 }
 
+/// The largest common slack t <= 1 of the instance's rows (CLP): > 0 feasible.
+double feasibility_slack(const tmpc::CondensedQp& qp) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const int rows = static_cast<int>(qp.A.rows()), nz = static_cast<int>(qp.A.cols());
+  Eigen::MatrixXd G(2 * rows, nz + 1);
+  Eigen::VectorXd b(2 * rows);
+  G << qp.A, Eigen::VectorXd::Ones(rows), -qp.A, Eigen::VectorXd::Ones(rows);
+  b << qp.hi, -qp.lo;
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(nz + 1), lo = Eigen::VectorXd::Constant(nz + 1, -inf),
+                  hi = Eigen::VectorXd::Constant(nz + 1, inf);
+  c(nz) = -1.0;
+  hi(nz) = 1.0;
+  const tmpc::LpResult lp = tmpc::solve_lp(c, G, b, Eigen::MatrixXd(0, nz + 1), Eigen::VectorXd(0), lo, hi);
+  return lp.status == tmpc::LpStatus::Optimal ? -lp.value : -inf;
+}
+
+const std::vector<Eigen::VectorXd>& qp_set(const std::string& set) {
+  static std::map<std::string, std::vector<Eigen::VectorXd>> sets;
+  auto it = sets.find(set);
+  if (it != sets.end()) return it->second;
+  std::vector<Eigen::VectorXd> xs;
+  if (set == "mission") {
+    const tmpc::Scenario sc = tmpc::load_scenario(bench_case::source_dir() + "/config/scenarios/thesis_helix.yaml");
+    tmpc::MissionOptions o;
+    o.solver = "active-set";
+    o.duration = 20.0;
+    o.record_qps = &xs;
+    tmpc::run_mission(artifact(), sc, o);
+  } else if (set == "bench") {
+    xs = cold_states(200);
+  } else {
+    const tmpc::ParametricQp qp = tmpc::ParametricQp::from_mpc(data_for(20));
+    const Eigen::VectorXd& half = artifact().x_bar.hi;
+    std::mt19937_64 rng(22);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::uniform_real_distribution<double> frac(0.5, 0.95);
+    while (xs.size() < 200) {
+      Eigen::VectorXd dir(half.size());
+      for (Eigen::Index i = 0; i < dir.size(); ++i) dir(i) = g(rng) * half(i);
+      dir /= dir.cwiseQuotient(half).cwiseAbs().maxCoeff();
+      if (feasibility_slack(qp.instance(dir)) > 0.0) continue;
+      double lo = 0.0, hi = 1.0;
+      for (int it = 0; it < 30; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (feasibility_slack(qp.instance(mid * dir)) > 0.0 ? lo : hi) = mid;
+      }
+      xs.push_back(frac(rng) * lo * dir);
+    }
+  }
+  return sets.emplace(set, std::move(xs)).first->second;
+}
+
+void run_set(benchmark::State& st, const std::string& solver, const std::string& set, bool warm, bool cache_cold) {
+  const tmpc::MpcQpData d = set == "mission" ? artifact().qp(true) : data_for(20);
+  const std::vector<Eigen::VectorXd>& xs = qp_set(set);
+  tmpc::SolverOptions o;
+  o.warm_start = warm;
+  const bool crash = solver == "admm-crash";
+  o.crash_start = crash;
+  auto s = tmpc::make_solver(crash ? "admm" : solver, d, o);
+  std::vector<char> junk(cache_cold ? 48u << 20 : 0u);
+  std::vector<double> times;
+  int converged = 0, active = 0;
+  std::size_t k = 0;
+  for (auto _ : st) {
+    if (cache_cold) {
+      st.PauseTiming();
+      std::memset(junk.data(), static_cast<int>(k & 0xff), junk.size());
+      benchmark::DoNotOptimize(junk.data());
+      st.ResumeTiming();
+    }
+    const tmpc::SolveResult& r = s->solve(xs[k % xs.size()]);
+    times.push_back(r.solve_us);
+    converged += r.status == tmpc::SolveStatus::Converged;
+    active += static_cast<int>((r.y.array() != 0.0).count());
+    ++k;
+  }
+  st.counters["qps"] = static_cast<double>(xs.size());
+  st.counters["converged_pct"] = 100.0 * converged / static_cast<double>(times.size());
+  st.counters["active_rows_mean"] = active / static_cast<double>(times.size());
+  bench_case::time_counters(st, std::move(times));
+}
+
 /// Solves per benchmark: the exact ADMM's p99 rests on 100 samples (50 passes over
 /// the 200 states, 0.2 to 0.5 s of solving, what the 83 Hz loop sees in two minutes;
 /// this VM's timer tick adds ~25 us to about 0.5 % of 20 us solves and a burst of steal
 /// time to a run of consecutive ones, which decided the p99 of 400 or 2000 samples),
 /// the slow solvers' on one or two passes.
 int samples(const std::string& solver) {
-  if (solver == "admm") return 10000;
+  if (solver == "admm" || solver == "active-set") return 10000;
   return solver == "cz" || solver == "admm-thesis" ? 100 : 400;
 }
 
 void register_all() {
+  for (const char* set : {"mission", "bench", "hard"}) {
+    for (const char* solver : {"active-set", "admm", "admm-crash"}) {
+      for (bool warm : {false, true}) {
+        for (bool cold_cache : {false, true}) {
+          const std::string name = std::string("Sets/") + set + "/" + solver + (warm ? "/warm" : "/cold") +
+                                   (cold_cache ? "/cache_cold" : "/cache_hot");
+          auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+            run_set(st, solver, set, warm, cold_cache);
+          });
+          b->Unit(benchmark::kMicrosecond)->Iterations(cold_cache ? 400 : 4000);
+        }
+      }
+    }
+  }
   for (int N : {10, 20, 40}) {
-    for (const char* solver : {"admm", "admm-thesis", "cz", "reference"}) {
+    for (const char* solver : {"admm", "admm-thesis", "cz", "reference", "active-set"}) {
       for (bool warm : {false, true}) {
         if (std::string(solver) == "reference" && warm) continue;  // an interior point has no warm start
         const std::string name = std::string("Solve/") + solver + "/N" + std::to_string(N) + (warm ? "/warm" : "/cold");
@@ -112,7 +221,7 @@ void register_all() {
       }
     }
   }
-  for (const char* solver : {"admm", "reference"}) {
+  for (const char* solver : {"admm", "reference", "active-set"}) {
     for (bool warm : {false, true}) {
       if (std::string(solver) == "reference" && warm) continue;
       const std::string name = std::string("OffsetFree/") + solver + "/N20" + (warm ? "/warm" : "/cold");

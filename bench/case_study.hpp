@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tmpc/model/config.hpp"
+#include "tmpc/qp/redundant_rows.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/design.hpp"
@@ -35,9 +36,14 @@ inline const ControllerArtifact& artifact() {
   return a;
 }
 
+/// The nominal QP at horizon N with its redundant rows certified (the artifact's own
+/// record at its horizon, N = 20).
 inline tmpc::MpcQpData data_for(int N) {
   const ControllerArtifact& a = artifact();
-  return tmpc::build_mpc_qp(a.A, a.B, a.Sigma_rho, a.Sigma_lambda, a.L, a.x_bar, a.u_bar, N, std::min(4, N));
+  if (N == a.N && std::min(4, N) == a.M) return a.qp();
+  tmpc::MpcQpData d = tmpc::build_mpc_qp(a.A, a.B, a.Sigma_rho, a.Sigma_lambda, a.L, a.x_bar, a.u_bar, N, std::min(4, N));
+  tmpc::certify_redundant_rows(d);
+  return d;
 }
 
 inline std::vector<Eigen::VectorXd> cold_states(int count) {

@@ -27,7 +27,7 @@ Eigen::VectorXd parse_vector(const std::string& s, int n, const std::string& wha
 namespace {
 
 struct SolveOptionsCli {
-  std::string controller, solver = "admm", x0, explicit_law, batch, out;
+  std::string controller, solver = "active-set", x0, explicit_law, batch, out;
   bool json = false;
   double eps = 1e-3;
 };

@@ -15,7 +15,7 @@ std::vector<std::string> flight_solver_choices() {
 
 std::string flight_solver_help() {
   return "auto (default: the GPU solver if a device answers and its calibrated p99 fits the deadline at least as "
-         "well as the CPU's, else admm) | " + solver_choices_help();
+         "well as the CPU's, else active-set) | " + solver_choices_help();
 }
 
 std::string resolve_solver(const std::string& name, const ControllerArtifact& a, const std::string& tube_law,

@@ -72,7 +72,7 @@ std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const 
     hard = make_explicit_solver(a, load_explicit(explicit_path, &a));
   }
   if (!(a.soft_penalty > 0.0)) return hard;
-  const std::string soft_name = name == "admm" || name == "reference" ? name : "admm";
+  const std::string soft_name = name == "admm" || name == "reference" || name == "active-set" ? name : "active-set";
   SolverOptions soft = options;
   if (soft.rho <= 0.0) {
     // The hard QP's penalty: the spectral rule on the softened QP sees the slacks' tiny

@@ -96,6 +96,8 @@ SolverTiming time_solver(const std::string& name, const ControllerArtifact& a, b
   return t;
 }
 
+std::string cpu_solver_name() { return "active-set"; }
+
 std::string gpu_solver_name() {
   for (const std::string& n : solver_names()) {
     if (n == "admm-cuda") return n;
@@ -105,7 +107,7 @@ std::string gpu_solver_name() {
 
 SolverChoice auto_solver(const ControllerArtifact& a, bool offset_free, double deadline_fraction, int samples) {
   const double budget_us = deadline_fraction * a.sample_time * 1e6;
-  const SolverTiming cpu = time_solver("admm", a, offset_free, samples);
+  const SolverTiming cpu = time_solver(cpu_solver_name(), a, offset_free, samples);
   const std::string g = gpu_solver_name();
   if (g.empty()) return choose_solver(cpu, nullptr, budget_us);
   const SolverTiming gpu = time_solver(g, a, offset_free, samples);

@@ -16,7 +16,7 @@
 namespace tmpc {
 
 struct MissionOptions {
-  std::string solver = "admm";
+  std::string solver = "active-set";
   std::string plant;              ///< "" (the scenario's), "el" or "mujoco"
   double duration = 0.0;          ///< > 0: shorter than the scenario's
   int run = -1;                   ///< Monte Carlo run (the scenario's plant.random), -1: none

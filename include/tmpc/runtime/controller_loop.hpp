@@ -30,7 +30,7 @@ namespace tmpc {
 
 struct ControllerLoopOptions {
   std::shared_ptr<const Trajectory> trajectory;  ///< what to fly (checked against the envelope first)
-  std::string solver = "admm";
+  std::string solver = "active-set";
   std::string solver_note;           ///< why this solver (--solver auto): the telemetry's first line
   std::string explicit_law;          ///< for solver "explicit"
   std::string tube_law;              ///< "" (the config's), "mayne" or "offset-free"

@@ -38,10 +38,14 @@ SolverChoice choose_solver(const SolverTiming& cpu, const SolverTiming* gpu, dou
 /// Never throws for a solver that cannot be built or fails: available = false, reason.
 SolverTiming time_solver(const std::string& name, const ControllerArtifact& a, bool offset_free, int samples = 200);
 
+/// The CPU default: "active-set" (exact, 3-6x faster than admm on every QP set of
+/// bench/bench_solvers.cpp Sets/).
+std::string cpu_solver_name();
+
 /// The GPU solver this build registered ("admm-cuda"), or "" without CUDA.
 std::string gpu_solver_name();
 
-/// time_solver() of the CPU default ("admm") and of gpu_solver_name(), then choose_solver()
+/// time_solver() of cpu_solver_name() and of gpu_solver_name(), then choose_solver()
 /// with the budget `deadline_fraction` x the artifact's sample time.
 SolverChoice auto_solver(const ControllerArtifact& a, bool offset_free, double deadline_fraction, int samples = 200);
 
