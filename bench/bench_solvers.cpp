@@ -13,6 +13,8 @@
 //   bench    the cold states above (3 % of the tightened box at once, nominal QP)
 //   hard     along random directions at 50-95 % of the largest feasible scale (CLP
 //            bisection), nominal QP
+//   soft     the softened nominal QP (penalty 50) at 3-30 % of the box, most of them
+//            infeasible as hard QPs (cold, caches hot)
 // in order (warm: each solve warm-started from the one before), caches hot, and
 // cache_cold: 48 MB written between solves (past this machine's L2 and L3).
 #include <algorithm>
@@ -131,6 +133,15 @@ const std::vector<Eigen::VectorXd>& qp_set(const std::string& set) {
     tmpc::run_mission(artifact(), sc, o);
   } else if (set == "bench") {
     xs = cold_states(200);
+  } else if (set == "soft") {
+    // 3 % to 30 % of the box at once: most of these hard QPs are infeasible.
+    std::mt19937_64 rng(31);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = 0; k < 200; ++k) {
+      Eigen::VectorXd x(24);
+      for (int i = 0; i < 24; ++i) x(i) = (0.03 + 0.27 * (k % 10) / 9.0) * u(rng) * artifact().x_bar.hi(i);
+      xs.push_back(x);
+    }
   } else {
     const tmpc::ParametricQp qp = tmpc::ParametricQp::from_mpc(data_for(20));
     const Eigen::VectorXd& half = artifact().x_bar.hi;
@@ -154,7 +165,8 @@ const std::vector<Eigen::VectorXd>& qp_set(const std::string& set) {
 }
 
 void run_set(benchmark::State& st, const std::string& solver, const std::string& set, bool warm, bool cache_cold) {
-  const tmpc::MpcQpData d = set == "mission" ? artifact().qp(true) : data_for(20);
+  tmpc::MpcQpData d = set == "mission" ? artifact().qp(true) : data_for(20);
+  if (set == "soft") d.soft_penalty = 50.0;  // the softened QP (1000 rows)
   const std::vector<Eigen::VectorXd>& xs = qp_set(set);
   tmpc::SolverOptions o;
   o.warm_start = warm;
@@ -164,6 +176,7 @@ void run_set(benchmark::State& st, const std::string& solver, const std::string&
   std::vector<char> junk(cache_cold ? 48u << 20 : 0u);
   std::vector<double> times;
   int converged = 0, active = 0;
+  double steps = 0.0;
   std::size_t k = 0;
   for (auto _ : st) {
     if (cache_cold) {
@@ -176,8 +189,10 @@ void run_set(benchmark::State& st, const std::string& solver, const std::string&
     times.push_back(r.solve_us);
     converged += r.status == tmpc::SolveStatus::Converged;
     active += static_cast<int>((r.y.array() != 0.0).count());
+    steps += r.iterations;
     ++k;
   }
+  st.counters["iterations"] = steps / static_cast<double>(times.size());
   st.counters["qps"] = static_cast<double>(xs.size());
   st.counters["converged_pct"] = 100.0 * converged / static_cast<double>(times.size());
   st.counters["active_rows_mean"] = active / static_cast<double>(times.size());
@@ -208,6 +223,13 @@ void register_all() {
         }
       }
     }
+  }
+  for (const char* solver : {"active-set", "admm"}) {
+    const std::string name = std::string("Sets/soft/") + solver + "/cold/cache_hot";
+    auto* b = benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) {
+      run_set(st, solver, "soft", false, false);
+    });
+    b->Unit(benchmark::kMicrosecond)->Iterations(std::string(solver) == "admm" ? 200 : 2000);
   }
   for (int N : {10, 20, 40}) {
     for (const char* solver : {"admm", "admm-thesis", "cz", "reference", "active-set"}) {

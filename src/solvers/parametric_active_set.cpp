@@ -38,6 +38,9 @@ void ParametricActiveSet::Rows::build(const ParametricQp& qp, const Eigen::Matri
   }
   C = A * K + E;
   c0 = A * u0;
+  Cf = C.cast<float>();
+  row_l1 = C.cwiseAbs().rowwise().sum();
+  vf.setZero(m);
   At = A.transpose();
   W = Hinv * At;
   G = A * W;
@@ -80,10 +83,39 @@ ParametricActiveSet::ParametricActiveSet(const ParametricQp& qp, const std::vect
     }
     reduced_.build(qp, K_, u0_, Hinv_, keep);
     has_reduced_ = true;
-    domain_identity_ = domain.D.rows() == np_ && domain.D.isIdentity(0.0);
-    dtheta_.setZero(domain.D.rows());
+    // Rows bounding one parameter are compared directly; the others form a product over
+    // the columns up to their last nonzero one.
+    std::vector<int> general;
+    for (Eigen::Index i = 0; i < domain.D.rows(); ++i) {
+      Eigen::Index j = 0;
+      const bool unit = (domain.D.row(i).array() != 0.0).count() == 1 && domain.D.row(i).cwiseAbs().maxCoeff(&j) == 1.0 &&
+                        domain.D(i, j) == 1.0;
+      if (unit) {
+        unit_rows_.push_back(static_cast<int>(j));
+        unit_lo_.push_back(domain.lo(i));
+        unit_hi_.push_back(domain.hi(i));
+      } else {
+        general.push_back(static_cast<int>(i));
+      }
+    }
+    Eigen::Index cols = 0;
+    for (int i : general) {
+      for (Eigen::Index j = 0; j < np_; ++j) {
+        if (domain.D(i, j) != 0.0) cols = std::max(cols, j + 1);
+      }
+    }
+    Dg_.resize(static_cast<Eigen::Index>(general.size()), cols);
+    dg_lo_.resize(Dg_.rows());
+    dg_hi_.resize(Dg_.rows());
+    for (Eigen::Index r = 0; r < Dg_.rows(); ++r) {
+      Dg_.row(r) = domain.D.row(general[static_cast<std::size_t>(r)]).head(cols);
+      dg_lo_(r) = domain.lo(general[static_cast<std::size_t>(r)]);
+      dg_hi_(r) = domain.hi(general[static_cast<std::size_t>(r)]);
+    }
+    dtheta_.setZero(Dg_.rows());
   }
   u_.setZero(nz_);
+  thf_.setZero(np_);
   f_.setZero(nz_);
   Hz_.setZero(nz_);
   ray_.setZero(nz_);
@@ -199,6 +231,8 @@ bool ParametricActiveSet::certify(const Rows& R, int p, double sigma) {
 
 SolveStatus ParametricActiveSet::run(Rows& R) {
   const int budget = opt_.max_iterations;
+  // The time budget (the runtime's deadline) is read at every step: a step costs about 1 us.
+  auto late = [this] { return opt_.time_budget_us > 0.0 && now_us() - t0_ > opt_.time_budget_us; };
   // Warm start: the previous set, made dual feasible (the most negative multiplier leaves).
   if (!set_.empty()) {
     for (;;) {
@@ -206,6 +240,7 @@ SolveStatus ParametricActiveSet::run(Rows& R) {
       const int leave = most_negative(R);
       if (leave < 0) break;
       if (steps_++ >= budget) return SolveStatus::MaxIterations;
+      if (late()) return SolveStatus::TimeBudget;
       remove(R, leave);
     }
   }
@@ -226,6 +261,7 @@ SolveStatus ParametricActiveSet::run(Rows& R) {
     double yp = 0.0;
     for (;;) {
       if (steps_++ >= budget) return SolveStatus::MaxIterations;
+      if (late()) return SolveStatus::TimeBudget;
       const int k = static_cast<int>(set_.size());
       // dy = -sigma G_SS^-1 G_Sp: the set's multipliers per unit of p's.
       for (int j = 0; j < k; ++j) dy_(j) = -sigma * R.G(row_of(set_[static_cast<std::size_t>(j)]), p);
@@ -233,7 +269,11 @@ SolveStatus ParametricActiveSet::run(Rows& R) {
       L_.topLeftCorner(k, k).transpose().triangularView<Eigen::Upper>().solveInPlace(dy_.head(k));
       double curvature = R.G(p, p);  // d = G_pp - G_pS G_SS^-1 G_Sp = G_pp + sigma G_pS dy
       for (int j = 0; j < k; ++j) curvature += sigma * R.G(p, row_of(set_[static_cast<std::size_t>(j)])) * dy_(j);
-      const double gap = sigma * (R.s(p) - bp);
+      // p's value from the multipliers (s is brought up to date only when p joins:
+      // a step that drops a row needs no other row's value).
+      double sp = R.v(p) - R.G(p, p) * yp;
+      for (int j = 0; j < k; ++j) sp -= R.G(p, row_of(set_[static_cast<std::size_t>(j)])) * ya_(j);
+      const double gap = sigma * (sp - bp);
       const double t_full = curvature > kDependent * R.G(p, p) ? gap / curvature : HUGE_VAL;
       double t_dual = HUGE_VAL;
       int block = -1;
@@ -250,13 +290,14 @@ SolveStatus ParametricActiveSet::run(Rows& R) {
         return certify(R, p, sigma) ? SolveStatus::Infeasible : SolveStatus::NumericalFailure;
       }
       const double t = std::min(t_full, t_dual);
-      // s += t ds, ds = -(G_:S dy + sigma G_:p); y_S += t dy; p's multiplier += sigma t.
-      R.s.noalias() -= (t * sigma) * R.G.col(p);
-      for (int j = 0; j < k; ++j) R.s.noalias() -= (t * dy_(j)) * R.G.col(row_of(set_[static_cast<std::size_t>(j)]));
+      // y_S += t dy; p's multiplier += sigma t.
       ya_.head(k) += t * dy_.head(k);
       yp += sigma * t;
       if (t_full <= t_dual) {
         if (!push(R, join, yp)) return SolveStatus::NumericalFailure;
+        // Every row's value at the new point: s = v - G_:S y_S.
+        R.s = R.v;
+        for (int j = 0; j <= k; ++j) R.s.noalias() -= ya_(j) * R.G.col(row_of(set_[static_cast<std::size_t>(j)]));
         break;
       }
       remove(R, block);
@@ -266,38 +307,62 @@ SolveStatus ParametricActiveSet::run(Rows& R) {
 
 const SolveResult& ParametricActiveSet::solve(const Eigen::VectorXd& theta) {
   if (!valid_state(theta, np_, res_)) return res_;
-  const double t0 = now_us();
+  t0_ = now_us();
   // The rows: the reduced set while theta is in the certificate's domain.
   bool in_domain = false;
   if (has_reduced_) {
-    if (domain_identity_) {
-      in_domain = (theta.array() <= domain_.hi.array()).all() && (theta.array() >= domain_.lo.array()).all();
-    } else {
-      dtheta_.noalias() = domain_.D * theta;
-      in_domain = (dtheta_.array() <= domain_.hi.array()).all() && (dtheta_.array() >= domain_.lo.array()).all();
+    in_domain = true;
+    for (std::size_t i = 0; in_domain && i < unit_rows_.size(); ++i) {
+      const double t = theta(unit_rows_[i]);
+      in_domain = t <= unit_hi_[i] && t >= unit_lo_[i];
+    }
+    if (in_domain && Dg_.rows() > 0) {
+      dtheta_.noalias() = Dg_ * theta.head(Dg_.cols());
+      in_domain = (dtheta_.array() <= dg_hi_.array()).all() && (dtheta_.array() >= dg_lo_.array()).all();
     }
   }
   Rows& R = in_domain ? reduced_ : full_;
   used_reduced_ = in_domain;
   u_ = u0_;
   u_.noalias() += K_ * theta;
-  R.v = R.c0;
-  R.v.noalias() += R.C * theta;
-  R.s = R.v;
-  // The start: no row, or the previous period's rows present here.
   if (last_ != nullptr) {
     for (int s : set_) last_->in_set[static_cast<std::size_t>(row_of(s))] = 0;
   }
   last_ = &R;
   set_.clear();
   steps_ = 0;
-  if (opt_.warm_start) {
+  // The usual case first, in single precision: C theta in float (half the bytes of the
+  // largest product) with the rounding bound |fl(C theta) - C theta| <=
+  // gamma ||C_r||_1 ||theta||_inf, gamma = (np + 4) 2^-24 (the entries' and theta's
+  // rounding, the products, any order of summation). Every row inside its bounds by more
+  // than that: u is feasible, hence the optimum, and exact (u is computed in double).
+  const double theta_max = theta.cwiseAbs().maxCoeff();
+  bool screened = theta_max < 1e30;  // far from float's range
+  if (screened) {
+    thf_ = theta.cast<float>();
+    R.vf.noalias() = R.Cf * thf_;
+    const double gamma = (np_ + 4) * 0x1p-24 * 1.01;
+    for (Eigen::Index r = 0; r < R.vf.size(); ++r) {
+      const double v = R.c0(r) + static_cast<double>(R.vf(r));
+      const double e = gamma * R.row_l1(r) * theta_max + 1e-30;
+      if (!(v + e <= R.hi(r) && v - e >= R.lo(r))) {
+        screened = false;
+        break;
+      }
+    }
+  }
+  if (!screened) {
+    R.v = R.c0;
+    R.v.noalias() += R.C * theta;
+    R.s = R.v;
+  }
+  if (!screened && opt_.warm_start) {
     for (int s : warm_) {
       const int r = R.index[static_cast<std::size_t>(row_of(s))];
       if (r >= 0) push(R, s > 0 ? r + 1 : -(r + 1), 0.0);
     }
   }
-  res_.status = run(R);
+  res_.status = screened ? SolveStatus::Converged : run(R);
   // The solution: z = u - W_:S y_S, multipliers in the original rows.
   const int k = static_cast<int>(set_.size());
   res_.z = u_;
@@ -327,8 +392,8 @@ const SolveResult& ParametricActiveSet::solve(const Eigen::VectorXd& theta) {
   }
   if (res_.status != SolveStatus::Converged) warm_.clear();
   // Residuals from scratch: the rows' violation (this set of rows) and H z + f + A_S' y_S.
-  double viol = 0.0;
-  for (Eigen::Index r = 0; r < R.s.size(); ++r) viol = std::max({viol, R.s(r) - R.hi(r), R.lo(r) - R.s(r)});
+  double viol = 0.0;  // screened: every row proven inside its bounds
+  for (Eigen::Index r = 0; !screened && r < R.s.size(); ++r) viol = std::max({viol, R.s(r) - R.hi(r), R.lo(r) - R.s(r)});
   f_ = qp_.f0;
   f_.noalias() += qp_.F * theta;
   Hz_.noalias() = qp_.H * res_.z;
@@ -340,7 +405,7 @@ const SolveResult& ParametricActiveSet::solve(const Eigen::VectorXd& theta) {
   res_.iterations = steps_;
   res_.active_set_steps = steps_;
   res_.restarts = 0;
-  res_.solve_us = now_us() - t0;
+  res_.solve_us = now_us() - t0_;
   return res_;
 }
 

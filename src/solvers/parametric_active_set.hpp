@@ -7,7 +7,9 @@
 // For an active set S (signed rows at their bounds b_S, multipliers y: + upper, - lower)
 // the KKT point is  G_SS y_S = v_S - b_S,  z = u - W_:S y_S,  row values s = v - G_:S y_S:
 // the bounds are constant and only k = |S| columns of G are touched. Online: v from one
-// product; no row out of its bounds means z = u (the mission's usual QP); otherwise
+// product (first in single precision with a rigorous rounding bound; in double only when
+// a row is within that bound of its bounds or out of them); no row out of its bounds
+// means z = u (the mission's usual QP); otherwise
 // Goldfarb-Idnani steps (Math. Prog. 27, 1983, the dual method of DAQP, Arnstrom et al.
 // 2022) from S = {} or from the previous period's set made dual feasible: the most
 // violated row joins through partial steps that keep every multiplier of its sign; a
@@ -16,7 +18,8 @@
 // Rows certified redundant over the parameter's domain at design time
 // (redundant_rows.hpp, recorded in the artifact) are left out while theta is in that
 // domain; outside it every row is kept. G_SS is kept as a Cholesky factor grown a row
-// at a time and rebuilt after a removal (k <= nz). No allocation after set-up.
+// at a time and rebuilt after a removal (k <= nz). No allocation after set-up. Ends with
+// max-iterations after max_iterations steps, time-budget past time_budget_us.
 #pragma once
 
 #include <vector>
@@ -50,6 +53,9 @@ class ParametricActiveSet final : public QpSolver {
     std::vector<int> index;  // original row -> position here (-1: absent)
     Eigen::MatrixXd C, G, W, At;
     Eigen::VectorXd c0, lo, hi, v, s;
+    Eigen::MatrixXf Cf;        // C in single precision (the screening product)
+    Eigen::VectorXf vf;
+    Eigen::VectorXd row_l1;    // ||C_r||_1 (the screening's rounding bound)
     std::vector<char> in_set;
     void build(const ParametricQp& qp, const Eigen::MatrixXd& K, const Eigen::VectorXd& u0, const Eigen::MatrixXd& Hinv,
                const std::vector<int>& keep);
@@ -72,10 +78,14 @@ class ParametricActiveSet final : public QpSolver {
   ParametricQp qp_;
   SolverOptions opt_;
   ParameterDomain domain_;
-  bool domain_identity_ = false;
+  std::vector<int> unit_rows_;             // domain rows on one parameter: its index
+  std::vector<double> unit_lo_, unit_hi_;  // and bounds
+  Eigen::MatrixXd Dg_;                     // the other domain rows (leading columns)
+  Eigen::VectorXd dg_lo_, dg_hi_;
   int nz_ = 0, np_ = 0;
   Eigen::MatrixXd K_, Hinv_;
   Eigen::VectorXd u0_, u_, dtheta_, f_, Hz_, ray_;
+  Eigen::VectorXf thf_;
   Rows reduced_, full_;
   Rows* last_ = nullptr;                // the rows of the last solve (their in_set marks)
   bool has_reduced_ = false, used_reduced_ = false;
@@ -84,6 +94,7 @@ class ParametricActiveSet final : public QpSolver {
   std::vector<int> set_, rebuild_, warm_;
   std::vector<double> rebuild_y_;
   int steps_ = 0;
+  double t0_ = 0.0;  // start of the solve (us)
   double feas_tol_ = 1e-10;
   SolveResult res_;
 };

@@ -81,6 +81,12 @@ bool solver_has_multipliers(const std::string& name) {
   return name == "admm" || name == "reference" || name == "active-set";
 }
 
+std::unique_ptr<QpSolver> make_active_set_solver(const ParametricQp& qp, SolverOptions options,
+                                                 const std::vector<int>& redundant, const ParameterDomain& domain) {
+  options.validate();
+  return std::make_unique<detail::ParametricActiveSet>(qp, redundant, domain, options);
+}
+
 std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options) {
   options.validate();
   return std::make_unique<detail::ReferenceQp>(qp, options);

@@ -143,11 +143,11 @@ elif check == "second-system":
     with open(os.path.join(scratch, "hil", "telemetry.csv")) as f:
         first, header = f.readline(), f.readline()
     # --solver auto (the default) says which solver flies and why in the first line.
-    need(re.match(r"# solver admm: .*(no GPU solver in this build|admm-cuda unavailable)", first) is not None,
+    need(re.match(r"# solver active-set: .*(no GPU solver in this build|admm-cuda unavailable)", first) is not None,
          f"telemetry's first line: {first}")
     need(header.startswith("period,t,e_p1,e_p2,e_v1,e_v2,e_int_p1,e_int_p2,"), f"telemetry header: {header}")
     hj = json.load(open(os.path.join(scratch, "hil", "metrics.json")))
-    need(hj["solver"]["name"] == "admm" and hj["solver"]["why"] != "", f"hil metrics solver: {hj.get('solver')}")
+    need(hj["solver"]["name"] == "active-set" and hj["solver"]["why"] != "", f"hil metrics solver: {hj.get('solver')}")
 elif check == "doctor":
     # Fake procfs/sysfs trees: a board set up per the README passes (exit 0), a missing
     # serial device fails (exit 1), each finding printed with what to do.

@@ -113,6 +113,32 @@ TEST(ActiveSet, RedundantRowsOfAHandMadeQp) {
   EXPECT_THROW(redundant_rows(qp, dom), std::invalid_argument);
 }
 
+TEST(ActiveSet, RowsWithinTheSinglePrecisionScreensBandAreDecidedInDouble) {
+  // min 1/2 |z|^2 - theta'z s.t. -1 <= z_1 <= 1, -1 <= z_2 <= 0.7: u = theta, placed
+  // within 1e-9 of a bound, inside and outside, far inside float's rounding (1e-7 here).
+  ParametricQp qp;
+  qp.H = Eigen::Matrix2d::Identity();
+  qp.F = -Eigen::Matrix2d::Identity();
+  qp.f0 = Eigen::Vector2d::Zero();
+  qp.A = Eigen::Matrix2d::Identity();
+  qp.E = Eigen::Matrix2d::Zero();
+  qp.lo0 = Eigen::Vector2d::Constant(-1.0);
+  qp.hi0 = Eigen::Vector2d(1.0, 0.7);
+  SolverOptions o;
+  o.warm_start = false;
+  auto s = make_reference_solver(qp, o);  // the oracle
+  auto as = make_active_set_solver(qp, o);
+  for (double delta : {-1e-9, 1e-9, -1e-8, 1e-8}) {  // past the 2e-10 feasibility tolerance
+    const Eigen::Vector2d theta(1.0 + delta, 0.3);
+    const SolveResult& r = as->solve(theta);
+    ASSERT_EQ(r.status, SolveStatus::Converged) << delta;
+    EXPECT_EQ(r.z(0), std::min(1.0, 1.0 + delta)) << delta;
+    EXPECT_EQ(r.y(0) > 0.0, delta > 0.0) << delta;
+    EXPECT_NEAR(r.z(1), 0.3, 1e-15);
+    EXPECT_LT((r.z - s->solve(theta).z).cwiseAbs().maxCoeff(), 1e-12);
+  }
+}
+
 TEST(ActiveSet, ExactOnBenchAndHardStatesWithTheRedundantRowsLeftOut) {
   const MpcQpData plain = artifact().qp();
   const auto t0 = std::chrono::steady_clock::now();

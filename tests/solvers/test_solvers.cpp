@@ -350,7 +350,7 @@ TEST(Solvers, StatusesForBadInputAndTimeBudget) {
   o.warm_start = false;
   o.time_budget_us = 1e-3;  // expires at the first check
   o.check_every = 1;
-  for (const char* name : {"admm", "admm-thesis", "cz", "reference"}) {
+  for (const char* name : {"admm", "admm-thesis", "cz", "reference", "active-set"}) {
     auto s = make_solver(name, artifact(), o);
     Eigen::VectorXd bad = Eigen::VectorXd::Zero(24);
     bad(3) = std::numeric_limits<double>::quiet_NaN();

@@ -28,16 +28,21 @@ set(srcs)
 foreach(f synthesis/artifact synthesis/artifact_checks synthesis/record_file synthesis/lqr synthesis/estimator synthesis/rpi
           model/checksum model/config model/trajectory_yaml model/trajectory model/quintic_spline
           model/dynamics model/kinematic_tree model/equilibrium model/state_layout qp/mpc_qp qp/disturbance_target
-          sets/box sets/zonotope)
+          qp/parametric_qp qp/redundant_rows sets/box sets/zonotope sets/lp)
   list(APPEND srcs ${SRC}/src/${f}.cpp)
 endforeach()
 find_path(EIGEN_DIR Eigen/Core PATHS /usr/include/eigen3 /usr/local/include/eigen3 NO_DEFAULT_PATH)
 if(NOT EIGEN_DIR)
   message(FATAL_ERROR "Eigen headers not found")
 endif()
+# CLP: the artifact's redundant-row certificate (qp/redundant_rows.cpp) solves LPs.
+find_path(CLP_DIR ClpSimplex.hpp PATHS /usr/include/coin /usr/include/coin-or /usr/local/include/coin NO_DEFAULT_PATH)
+if(NOT CLP_DIR)
+  message(FATAL_ERROR "CLP headers not found")
+endif()
 execute_process(COMMAND ${CLANG} -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-                        -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR}
-                        ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs} -lyaml-cpp -o ${OUT}/fuzz_artifact
+                        -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR} -isystem ${CLP_DIR}
+                        ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs} -lyaml-cpp -lClp -lCoinUtils -o ${OUT}/fuzz_artifact
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "building the artifact fuzz target failed:\n${err}")

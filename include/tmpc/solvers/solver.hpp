@@ -113,6 +113,13 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
 /// The reference solver on any parametric QP (infinite bounds allowed): the oracle of
 /// the explicit-MPC construction and of tests on non-MPC problems.
 std::unique_ptr<QpSolver> make_reference_solver(const ParametricQp& qp, SolverOptions options = {});
+/// The active-set solver on any parametric QP with a positive definite H (infinite
+/// bounds allowed), optionally with rows certified redundant over a parameter domain
+/// (qp/redundant_rows.hpp). Throws std::invalid_argument for an H that is not positive
+/// definite or a certificate that does not fit the QP.
+std::unique_ptr<QpSolver> make_active_set_solver(const ParametricQp& qp, SolverOptions options = {},
+                                                 const std::vector<int>& redundant = {},
+                                                 const ParameterDomain& domain = {});
 /// True when the solver returns multipliers of lo <= A z <= hi (admm, reference, active-set).
 bool solver_has_multipliers(const std::string& name);
 
