@@ -19,7 +19,6 @@
 // cache_cold: 48 MB written between solves (past this machine's L2 and L3).
 #include <algorithm>
 #include <cstring>
-#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -103,21 +102,8 @@ void run(benchmark::State& st, const std::string& solver, int N, bool warm, tmpc
   bench_case::time_counters(st, std::move(times));
 }
 
-/// The largest common slack t <= 1 of the instance's rows (CLP): > 0 feasible.
-double feasibility_slack(const tmpc::CondensedQp& qp) {
-  const double inf = std::numeric_limits<double>::infinity();
-  const int rows = static_cast<int>(qp.A.rows()), nz = static_cast<int>(qp.A.cols());
-  Eigen::MatrixXd G(2 * rows, nz + 1);
-  Eigen::VectorXd b(2 * rows);
-  G << qp.A, Eigen::VectorXd::Ones(rows), -qp.A, Eigen::VectorXd::Ones(rows);
-  b << qp.hi, -qp.lo;
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(nz + 1), lo = Eigen::VectorXd::Constant(nz + 1, -inf),
-                  hi = Eigen::VectorXd::Constant(nz + 1, inf);
-  c(nz) = -1.0;
-  hi(nz) = 1.0;
-  const tmpc::LpResult lp = tmpc::solve_lp(c, G, b, Eigen::MatrixXd(0, nz + 1), Eigen::VectorXd(0), lo, hi);
-  return lp.status == tmpc::LpStatus::Optimal ? -lp.value : -inf;
-}
+/// The largest common slack of the instance's rows (CLP): > 0 feasible.
+double feasibility_slack(const tmpc::CondensedQp& qp) { return tmpc::largest_common_slack(qp.A, qp.lo, qp.hi); }
 
 const std::vector<Eigen::VectorXd>& qp_set(const std::string& set) {
   static std::map<std::string, std::vector<Eigen::VectorXd>> sets;

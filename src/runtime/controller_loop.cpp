@@ -17,10 +17,6 @@
 
 namespace tmpc {
 
-namespace {
-
-}  // namespace
-
 ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transport& link,
                                         const ControllerLoopOptions& o, const std::atomic<bool>& stop,
                                         const ControllerLoopSeams& seams) {

@@ -74,7 +74,7 @@ std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const 
   if (!(a.soft_penalty > 0.0)) return hard;
   const std::string soft_name = name == "admm" || name == "reference" || name == "active-set" ? name : "active-set";
   SolverOptions soft = options;
-  if (soft.rho <= 0.0) {
+  if (soft_name == "admm" && soft.rho <= 0.0) {
     // The hard QP's penalty: the spectral rule on the softened QP sees the slacks' tiny
     // curvature (1e-8 of H) and gives a penalty orders of magnitude too small.
     const ParametricQp hard_qp = ParametricQp::from_mpc(a.qp(offset_free));

@@ -115,6 +115,23 @@ LpResult LpWorkspace::minimize(const Eigen::VectorXd& c) {
 
 void LpWorkspace::set_rhs(int i, double v) { model_->setRowUpper(i, std::isfinite(v) ? v : COIN_DBL_MAX); }
 
+double largest_common_slack(const Eigen::MatrixXd& A, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                            double cap) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::Index rows = A.rows(), n = A.cols();
+  // max t  s.t.  A x + t <= hi,  -A x + t <= -lo,  t <= cap  (x free)
+  Eigen::MatrixXd G(2 * rows, n + 1);
+  Eigen::VectorXd b(2 * rows);
+  G << A, Eigen::VectorXd::Ones(rows), -A, Eigen::VectorXd::Ones(rows);
+  b << hi, -lo;
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(n + 1), xlo = Eigen::VectorXd::Constant(n + 1, -inf),
+                  xhi = Eigen::VectorXd::Constant(n + 1, inf);
+  c(n) = -1.0;
+  xhi(n) = cap;
+  const LpResult lp = solve_lp(c, G, b, Eigen::MatrixXd(0, n + 1), Eigen::VectorXd(0), xlo, xhi);
+  return lp.status == LpStatus::Optimal ? -lp.value : -inf;
+}
+
 ChebyshevBall chebyshev_ball(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& lo,
                              const Eigen::VectorXd& hi, double r_max) {
   const Eigen::Index n = A.cols(), m = A.rows();

@@ -1,19 +1,14 @@
 // "admm-thesis": Algorithm 4.3 as written, with the loop condition fixed (E2).
-#include <chrono>
 #include <cmath>
 
 #include <Eigen/Dense>
 
 #include "tmpc/gpu/nesterov_restart.hpp"
+#include "solve_clock.hpp"
 #include "solvers_internal.hpp"
 
 namespace tmpc::detail {
 
-namespace {
-inline double now_us() {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-}  // namespace
 
 AdmmThesis::AdmmThesis(const MpcQpData& d, const ParametricQp& qp, const SolverOptions& opt)
     : n_(d.n), m_(d.m), N_(d.N), M_(d.M), P_(d.P), Pt_(d.P.transpose()), Q_(d.Q), Wx_(d.Wx()), Wu_(d.Wu()), qp_(qp),

@@ -1,19 +1,16 @@
 // The exact ADMM machinery (see dense_admm.hpp).
 #include "dense_admm.hpp"
+#include "solve_clock.hpp"
 
 #include "tmpc/gpu/nesterov_restart.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 namespace tmpc::detail {
 
 namespace {
 constexpr double kPolishBand = 100.0;  // polish once both residuals are within this factor of the tolerance
-inline double now_us() {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 template <class E>
 inline double inf_norm(const Eigen::MatrixBase<E>& v) {  // no temporary for expressions
   return v.size() ? v.cwiseAbs().maxCoeff() : 0.0;

@@ -1,8 +1,8 @@
 // The parametric dual active-set solver (see parametric_active_set.hpp).
 #include "parametric_active_set.hpp"
+#include "solve_clock.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -14,9 +14,6 @@
 namespace tmpc::detail {
 
 namespace {
-double now_us() {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 constexpr double kDependent = 1e-10;  // Schur pivot below this fraction of G_pp: p depends on the set
 }  // namespace
 

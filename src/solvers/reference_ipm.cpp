@@ -1,16 +1,11 @@
 // "reference": dense primal-dual interior point (Mehrotra) and an active-set polish.
-#include <chrono>
 #include <cmath>
 
 #include "solvers_internal.hpp"
+#include "solve_clock.hpp"
 
 namespace tmpc::detail {
 
-namespace {
-inline double now_us() {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-}  // namespace
 
 ReferenceQp::ReferenceQp(const ParametricQp& qp, const SolverOptions& opt)
     : qp_(qp), opt_(opt), nz_(qp.nz()), nc_(qp.nc()), polish_(qp.nz(), qp.nc()) {

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -20,22 +19,9 @@ namespace tmpc {
 namespace {
 
 const ControllerArtifact& artifact() { return test::case_study_artifact(); }
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// The largest common slack t <= 1 of lo <= A z <= hi over z (CLP): > 0 feasible.
-double feasibility_slack(const CondensedQp& qp) {
-  const int rows = static_cast<int>(qp.A.rows()), nz = static_cast<int>(qp.A.cols());
-  Eigen::MatrixXd G(2 * rows, nz + 1);
-  Eigen::VectorXd b(2 * rows);
-  G << qp.A, Eigen::VectorXd::Ones(rows), -qp.A, Eigen::VectorXd::Ones(rows);
-  b << qp.hi, -qp.lo;
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(nz + 1), lo = Eigen::VectorXd::Constant(nz + 1, -kInf),
-                  hi = Eigen::VectorXd::Constant(nz + 1, kInf);
-  c(nz) = -1.0;
-  hi(nz) = 1.0;
-  const LpResult lp = solve_lp(c, G, b, Eigen::MatrixXd(0, nz + 1), Eigen::VectorXd(0), lo, hi);
-  return lp.status == LpStatus::Optimal ? -lp.value : -kInf;
-}
+/// The largest common slack of the instance's rows (CLP): > 0 feasible.
+double feasibility_slack(const CondensedQp& qp) { return largest_common_slack(qp.A, qp.lo, qp.hi); }
 
 /// Hard states: along random directions, at 50-95 % of the largest feasible scale
 /// (bisection on the LP above), as the solver issue defines them.
@@ -107,6 +93,15 @@ TEST(ActiveSet, RedundantRowsOfAHandMadeQp) {
   dom.lo(0) = -1.5;
   dom.hi(0) = 1.5;
   EXPECT_EQ(redundant_rows(qp, dom).rows, (std::vector<int>{0, 2}));
+  // A certificate that does not fit the QP is refused, naming what is wrong.
+  try {
+    make_active_set_solver(qp, SolverOptions{}, {9}, dom);
+    ADD_FAILURE() << "row 9 of a 6-row QP accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("redundant row 9 of a QP with 6 rows"), std::string::npos) << e.what();
+  }
+  ParameterDomain wide{Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Zero(2), Eigen::VectorXd::Ones(2)};
+  EXPECT_THROW(make_active_set_solver(qp, SolverOptions{}, {0}, wide), std::invalid_argument);
   // An empty feasible set is an error, not a list.
   qp.lo0(0) = 2.0;
   qp.hi0(0) = 3.0;
@@ -149,7 +144,8 @@ TEST(ActiveSet, ExactOnBenchAndHardStatesWithTheRedundantRowsLeftOut) {
   EXPECT_EQ(artifact().qp().redundant_rows, d.redundant_rows);
   const ParametricQp full = ParametricQp::from_mpc(d);
   std::printf("redundant rows: %zu of %d (state rows %d)\n", d.redundant_rows.size(), full.nc(), d.N * d.n);
-  EXPECT_GT(d.redundant_rows.size(), 0u);
+  EXPECT_NEAR(static_cast<double>(d.redundant_rows.size()), 86.0, 3.0);  // README
+  EXPECT_NEAR(static_cast<double>(artifact().redundant_rows_offset_free.size()), 50.0, 3.0);  // README
   SolverOptions cold;
   cold.warm_start = false;
   auto ref = make_solver("reference", d, cold);
@@ -269,6 +265,8 @@ TEST(ActiveSet, OutsideTheCertificatesDomainEveryRowIsKept) {
   // A nominal state just outside X_bar in one coordinate (the domain), small elsewhere.
   Eigen::VectorXd x0 = test::case_study_states(1, 4)[0];
   x0(3) = 1.02 * artifact().x_bar.hi(3);
+  ASSERT_FALSE(d.domain.contains(x0));
+  ASSERT_TRUE(d.domain.contains(test::case_study_states(1, 4)[0]));
   const SolveResult a = as->solve(x0);
   const SolveResult b = all->solve(x0);
   ASSERT_EQ(a.status, b.status);

@@ -229,6 +229,21 @@ TEST(ArtifactSemantics, SpecialFilesAreClearErrors) {
 
 // The noisy-sensor design's records: the Kalman filter and the soft constraints'
 // penalty round-trip, and what they must mean is checked on load.
+TEST(ArtifactSemantics, TheRedundantRowCertificateRoundTripsAndIsChecked) {
+  const ControllerArtifact a0 = good();
+  ASSERT_GE(a0.redundant_rows.size(), 2u);
+  EXPECT_EQ(deserialize_artifact(serialize_artifact(a0), "t.tmpc").redundant_rows, a0.redundant_rows);
+  ControllerArtifact a = a0;
+  std::swap(a.redundant_rows[0], a.redundant_rows[1]);
+  expect_refused(a, "redundant_rows", "is not an increasing index of a QP row");
+  a = a0;
+  a.redundant_rows_offset_free.push_back(a.M * a.m + a.N * a.n);  // one past the last row
+  expect_refused(a, "redundant_rows_offset_free", "is not an increasing index of a QP row");
+  a = a0;
+  a.certificate_d_max(0) = -1.0;
+  expect_refused(a, "certificate_d_max", "negative");
+}
+
 TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) {
   const ControllerArtifact& n = test::noisy_artifact();
   ASSERT_EQ(n.estimator, "kalman");

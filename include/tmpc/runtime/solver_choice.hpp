@@ -38,8 +38,8 @@ SolverChoice choose_solver(const SolverTiming& cpu, const SolverTiming* gpu, dou
 /// Never throws for a solver that cannot be built or fails: available = false, reason.
 SolverTiming time_solver(const std::string& name, const ControllerArtifact& a, bool offset_free, int samples = 200);
 
-/// The CPU default: "active-set" (exact, 3-6x faster than admm on every QP set of
-/// bench/bench_solvers.cpp Sets/).
+/// The CPU default: "active-set" (exact, 2-9x faster than admm on the QP sets of
+/// bench/bench_solvers.cpp Sets/, README "Benchmarks").
 std::string cpu_solver_name();
 
 /// The GPU solver this build registered ("admm-cuda"), or "" without CUDA.

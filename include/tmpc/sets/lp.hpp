@@ -41,6 +41,12 @@ class LpWorkspace {
   int n_ = 0;
 };
 
+/// The largest common slack t <= cap of {x : lo <= A x <= hi} (every row moved inward by
+/// t, +-infinite bounds allowed): > 0 when the set has an interior, < 0 when it is empty,
+/// -infinity when the LP fails. The feasibility oracle of the solver tests and benchmarks.
+double largest_common_slack(const Eigen::MatrixXd& A, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                            double cap = 1.0);
+
 /// Largest ball {c + r u : |u| <= 1} inside {A x <= b, lo <= x <= hi} (rows of A need not
 /// be normalized), r capped at r_max. radius < 0 when the set is empty.
 struct ChebyshevBall {
