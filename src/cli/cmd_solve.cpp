@@ -1,5 +1,7 @@
 // tmpc solve --controller FILE.tmpc --solver NAME --x0 "..." [--json] [--eps E]: one
-// nominal QP, with the KKT residuals of the returned point.
+// nominal QP, with the KKT residuals of the returned point; with the artifact's soft
+// constraints, a QP certified infeasible is reported so and the softened QP's solution
+// (its largest slack) printed instead, as the controller would fly it.
 // tmpc solve --controller FILE.tmpc --solver NAME --batch FILE [--out CSV]: many QPs
 // at once (the GPU solvers in one launch), one CSV row each.
 #include <chrono>
@@ -101,6 +103,12 @@ void run_solve(const SolveOptionsCli& o) {
   auto solver = make_controller_solver(o.solver, a, opt,
                                       o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law);
   const SolveResult r = solver->solve(x0);
+  // The artifact's soft constraints: the hard QP was certified infeasible and r is the
+  // softened QP's solution (controller_solver.hpp); the hard QP's KKT test does not apply.
+  const std::string slack_state =
+      r.softened && r.slack_state >= 0 && r.slack_state < static_cast<int>(a.state_names.size())
+          ? a.state_names[static_cast<std::size_t>(r.slack_state)]
+          : std::string();
   const CondensedQp qp = solver->problem().instance(x0);
   const Eigen::VectorXd y = solver_has_multipliers(o.solver) ? r.y : estimate_multipliers(qp, r.z, 10.0 * o.eps);
   const KktResiduals k = kkt_residuals(qp, r.z, y);
@@ -108,7 +116,8 @@ void run_solve(const SolveOptionsCli& o) {
   const Eigen::Vector4d u0_phys = u0.cwiseQuotient(a.N_u);
   if (o.json) {
     nlohmann::json j = {{"solver", o.solver},
-                        {"status", to_string(r.status)},
+                        {"status", r.softened ? "infeasible" : to_string(r.status)},
+                        {"softened", r.softened},
                         {"iterations", r.iterations},
                         {"primal_residual", r.primal_residual},
                         {"dual_residual", r.dual_residual},
@@ -120,14 +129,25 @@ void run_solve(const SolveOptionsCli& o) {
                         {"kkt", {{"stationarity", k.stationarity}, {"primal", k.primal},
                                  {"complementarity", k.complementarity}, {"dual_sign", k.dual_sign},
                                  {"multipliers", solver_has_multipliers(o.solver) ? "solver" : "estimated"}}}};
+    if (r.softened) {
+      j["softened_qp"] = {{"status", to_string(r.status)}, {"slack_max", r.slack_max}, {"slack_state", slack_state}};
+      j.erase("kkt");
+    }
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("%s: %s after %d iterations (%.1f us), residuals primal %.3e dual %.3e\n", o.solver.c_str(),
-              to_string(r.status), r.iterations, r.solve_us, r.primal_residual, r.dual_residual);
+  if (r.softened) {
+    std::printf("%s: infeasible (the hard QP); the softened QP (state constraints with the exact L1 penalty, inputs "
+                "hard): %s after %d iterations (%.1f us in all), largest slack %.4g (normalized) in %s\n",
+                o.solver.c_str(), to_string(r.status), r.iterations, r.solve_us, r.slack_max, slack_state.c_str());
+  } else {
+    std::printf("%s: %s after %d iterations (%.1f us), residuals primal %.3e dual %.3e\n", o.solver.c_str(),
+                to_string(r.status), r.iterations, r.solve_us, r.primal_residual, r.dual_residual);
+  }
   std::printf("objective %.9g\n", r.objective);
   std::printf("u_bar(0) normalized: %.6f %.6f %.6f %.6f\n", u0(0), u0(1), u0(2), u0(3));
   std::printf("u_bar(0) physical:   %.6f N, %.6f N, %.6f N m, %.6f N m\n", u0_phys(0), u0_phys(1), u0_phys(2), u0_phys(3));
+  if (r.softened) return;  // the hard QP's optimality test does not apply
   std::printf("KKT (%s multipliers): stationarity %.3e, primal %.3e, complementarity %.3e, dual sign %.3e\n",
               solver_has_multipliers(o.solver) ? "solver's" : "estimated", k.stationarity, k.primal, k.complementarity,
               k.dual_sign);

@@ -44,8 +44,10 @@ TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   const MissionMetrics gusts = fly("gusts");
   EXPECT_FALSE(gusts.diverged);
   EXPECT_EQ(gusts.periods, 6667);
-  EXPECT_NEAR(static_cast<double>(gusts.state_constraint_violations), 689.0, 0.05 * 689.0);
-  EXPECT_NEAR(static_cast<double>(gusts.fallback_periods), 1048.0, 0.05 * 1048.0);
+  EXPECT_NEAR(static_cast<double>(gusts.state_constraint_violations), 726.0, 0.05 * 726.0);
+  EXPECT_LE(gusts.fallback_periods, 6);  // measured 3 (1048 before soft constraints were shipped)
+  std::printf("gusts: softened %ld\n", gusts.softened_periods);
+  EXPECT_GT(gusts.softened_periods, 0);
   const MissionMetrics noisy = fly("noisy_sensors");
   EXPECT_TRUE(noisy.noisy);
   EXPECT_TRUE(noisy.diverged);  // the servo rates run away: the mission is aborted
@@ -101,7 +103,8 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
   };
   auto near = [](long got, long want) { EXPECT_NEAR(static_cast<double>(got), static_cast<double>(want), 0.1 * want + 2.0); };
   // violations and fallback periods per run: the shipped design, the noisy-sensor one.
-  const long shipped_v[3] = {0, 4, 42}, shipped_f[3] = {0, 15, 91}, noisy_v[3] = {0, 45, 57}, noisy_f[3] = {0, 0, 1};
+  // (before the shipped design had soft constraints: 0, 4, 42 violations, 0, 15, 91 fallbacks)
+  const long shipped_v[3] = {0, 1, 15}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 45, 57}, noisy_f[3] = {0, 0, 0};
   for (int run = 0; run < 3; ++run) {
     const MissionMetrics s = fly_run(test::artifact(), run), n = fly_run(test::noisy_artifact(), run);
     near(s.state_constraint_violations, shipped_v[run]);

@@ -260,7 +260,7 @@ TEST(Config, ABaseConfigurationIsMergedKeyByKey) {
 TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   const Config& c = test::default_config();
   EXPECT_EQ(c.estimation.observer, "residual");  // the shipped design: no section
-  EXPECT_FALSE(c.soft_constraints.enabled);
+  EXPECT_TRUE(c.soft_constraints.enabled);        // the shipped design softens an infeasible QP
   const Config n = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor_noisy.yaml");
   EXPECT_EQ(n.estimation.observer, "kalman");
   EXPECT_DOUBLE_EQ(n.estimation.noise[0], 0.005);
@@ -294,8 +294,8 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   } catch (const ConfigError& e) {
     expect_error(e.what(), "estimation.observer", "needs tube_law.offset_free: true");
   }
-  expect_error(with("\nsoft_constraints: {enabled: true, penalty: -2}\n"), "soft_constraints.penalty", "out of range");
-  expect_error(with("\nsoft_constraints: {enabled: yes}\n"), "soft_constraints.enabled", "expected true or false");
+  expect_error(load_with("  penalty: 0\n", "  penalty: -2\n"), "soft_constraints.penalty", "out of range");
+  expect_error(load_with("  enabled: true\n", "  enabled: yes\n"), "soft_constraints.enabled", "expected true or false");
   expect_error(load_with("  tube_gain: lqr", "  tube_gain: lqr\n  lqr_input_scale: [1, 1, 0, 1]"),
                "synthesis.lqr_input_scale", "must be positive");
 }

@@ -16,7 +16,7 @@ namespace tmpc {
 /// artifact's soft constraints on (soft_penalty > 0), a QP certified infeasible is
 /// solved again in the softened form (exact L1 penalty on the state constraints,
 /// inputs hard; parametric_qp.hpp) instead of ending in the LQR fallback: by `name`
-/// when it solves that form (admm, reference), else by admm on the CPU. Where the
+/// when it solves that form (active-set, admm, reference), else by active-set. Where the
 /// hard QP is feasible the softened one has the same solution, so it is solved only
 /// when needed. Throws std::invalid_argument for an unknown name or a bad file.
 std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const ControllerArtifact& a,
