@@ -63,7 +63,7 @@ ParametricQp ParametricQp::soften(const ParametricQp& hard, int N, int n, double
   const int nz = nu + ns, nc = nin + 2 * rows + ns;
   p.H = Eigen::MatrixXd::Zero(nz, nz);
   p.H.topLeftCorner(nu, nu) = hard.H;
-  p.H.bottomRightCorner(ns, ns).diagonal().setConstant(1e-8 * hard.H.diagonal().maxCoeff());
+  p.H.bottomRightCorner(ns, ns).diagonal().setConstant(kSlackCurvature * hard.H.diagonal().maxCoeff());
   p.F = Eigen::MatrixXd::Zero(nz, hard.nx());
   p.F.topRows(nu) = hard.F;
   p.f0 = Eigen::VectorXd::Zero(nz);

@@ -10,7 +10,7 @@ namespace tmpc {
 
 namespace {
 
-/// The hard QP first; when it is certified infeasible, the softened QP (see
+/// The hard QP first; when it is certified infeasible or fails numerically, the softened QP (see
 /// controller_solver.hpp). Its result has the hard layout (u_hat); the slacks are
 /// reported in softened, slack_max and slack_state. No allocation per solve.
 class SoftRecoverySolver final : public QpSolver {
@@ -23,7 +23,10 @@ class SoftRecoverySolver final : public QpSolver {
   }
   const SolveResult& solve(const Eigen::VectorXd& x0) override {
     const SolveResult& h = hard_->solve(x0);
-    if (h.status != SolveStatus::Infeasible) return h;
+    // Infeasible, or a numerical failure (e.g. a nearly infeasible QP whose Farkas ray
+    // the active set cannot certify): where the hard QP is feasible the softened one has
+    // its solution (exact penalty), so the second solve loses nothing.
+    if (h.status != SolveStatus::Infeasible && h.status != SolveStatus::NumericalFailure) return h;
     const SolveResult& r = soft_->solve(x0);
     res_.status = r.status;
     res_.iterations = h.iterations + r.iterations;

@@ -9,8 +9,14 @@
 //   min 1/2 u'H u + f'u + rho 1's + eps/2 s's
 //   s.t. U_bar (inputs, hard);  x_k,i - s_i <= hi_k,i;  x_k,i + s_i >= lo_k,i;  s >= 0
 // rows: M m inputs, N n upper, N n lower (one-sided: the other bound infinite), n slacks.
-// eps = 1e-8 of H's largest diagonal keeps the Hessian positive definite; it does not
-// move the solution while no slack is used.
+// eps = 1e-6 of H's largest diagonal (kSlackCurvature) keeps the Hessian positive
+// definite; the quadratic term's gradient vanishes at s = 0, so it does not change
+// exactness (no slack while the hard QP is feasible and rho covers its multipliers).
+// Its size: 1e-8 left the slack directions so flat (the softened Hessian's condition
+// number 1e8) that the dual active set cycled on a gust's QP (4000 steps); a large eps
+// weighs large slacks quadratically and the 0.24 s horizon spends the inputs on the
+// immediate violation: at H's smallest eigenvalue (7e-5 of its largest diagonal here)
+// the sustained 3 N flight diverges. 1e-7 to 3e-6 fly both (README "soft constraints").
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +24,9 @@
 #include "tmpc/qp/mpc_qp.hpp"
 
 namespace tmpc {
+
+/// The softened form's slack curvature eps, relative to H's largest diagonal (above).
+inline constexpr double kSlackCurvature = 1e-6;
 
 struct ParametricQp {
   Eigen::MatrixXd H, F, A, E;
