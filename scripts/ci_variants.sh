@@ -11,25 +11,36 @@
 #             the tests of what the option changes: the command line (label `cli`:
 #             `plant`, `openloop`, `crosscheck` refuse the MuJoCo plant, saying why)
 #             and the plant selection (`Plant*`, `Scenario*`).
+#   arm64     scripts/cross_arm64.sh: the CPU path cross-built for the Orin (Debian's
+#             arm64 toolchain and multiarch packages), its model, sets, qp and io tests
+#             and a named subset of the solvers and runtime tests under qemu-aarch64,
+#             and 10 s of the thesis mission flown by the arm64 tmpc and the host's.
+#             Needs the default build (build/: the host's designs of the test artifacts).
 #   nocuda    TMPC_WITH_CUDA=OFF without sanitizers (not in CI: asan covers it).
 # ccache shares the object files the variants have in common with the default build.
-# Usage: scripts/ci_variants.sh [VARIANT...]   (default: asan nomujoco)
+# Usage: scripts/ci_variants.sh [VARIANT...]   (default: asan nomujoco arm64)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
 variants=("$@")
-[ ${#variants[@]} -eq 0 ] && variants=(asan nomujoco)
+[ ${#variants[@]} -eq 0 ] && variants=(asan nomujoco arm64)
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
 launcher=()
 command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_CUDA_COMPILER_LAUNCHER=ccache)
 for v in "${variants[@]}"; do
   t0=$(date +%s)
+  if [ "$v" = arm64 ]; then
+    echo "=== variant arm64: scripts/cross_arm64.sh"
+    scripts/cross_arm64.sh
+    echo "=== variant arm64: built and tested in $(( $(date +%s) - t0 )) s"
+    continue
+  fi
   case "$v" in
     asan) opts=(-DTMPC_SANITIZE=ON -DTMPC_WITH_CUDA=OFF -DTMPC_BUILD_BENCH=OFF); ctest_args=(-LE "slow|fuzz") ;;
     nomujoco) opts=(-DTMPC_WITH_MUJOCO=OFF -DTMPC_BUILD_BENCH=OFF); ctest_args=(-LE "slow|fuzz" -R "^(cli\.|[A-Za-z]*Plant|Scenario)") ;;
     nocuda) opts=(-DTMPC_WITH_CUDA=OFF); ctest_args=(-LE "slow|fuzz") ;;
-    *) echo "ci_variants: unknown variant '$v' (asan, nomujoco, nocuda)" >&2; exit 2 ;;
+    *) echo "ci_variants: unknown variant '$v' (asan, nomujoco, arm64, nocuda)" >&2; exit 2 ;;
   esac
   echo "=== variant $v: ${opts[*]}"
   cmake -S . -B "build-$v" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "${opts[@]}" >/dev/null

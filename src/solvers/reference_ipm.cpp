@@ -161,9 +161,11 @@ const SolveResult& ReferenceQp::solve(const Eigen::VectorXd& x0) {
   if (res_.status != SolveStatus::TimeBudget) {
     if (polish()) {
       res_.status = SolveStatus::Converged;
-    } else if (res_.status == SolveStatus::MaxIterations) {
-      // Accept a stalled run whose KKT residuals already meet 1e-9 (degenerate active
-      // sets the polish refuses).
+    } else if (res_.status == SolveStatus::MaxIterations || res_.status == SolveStatus::NumericalFailure) {
+      // Accept a stalled run, or one whose factorization broke down at the end, whose
+      // KKT residuals already meet 1e-9 (degenerate active sets the polish refuses:
+      // duplicated rows and equalities, where arm64's fused multiply-adds ended the
+      // iteration one step from where x86-64's rounding converged).
       double comp = 0.0;
       for (int i = 0; i < 2 * nc_; ++i) comp = std::max(comp, active_row_[static_cast<std::size_t>(i)] ? s_(i) * lam_(i) : 0.0);
       if (res_.dual_residual <= 1e-9 * scale_d && res_.primal_residual <= 1e-9 * scale_p && comp <= 1e-9 * scale_d) {
