@@ -24,5 +24,8 @@ set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE BOTH)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE BOTH)
 find_program(TMPC_QEMU_AARCH64 qemu-aarch64)
 if(TMPC_QEMU_AARCH64)
-  set(CMAKE_CROSSCOMPILING_EMULATOR ${TMPC_QEMU_AARCH64} -L /usr/aarch64-linux-gnu)
+  # On the multiarch arm64 runtime (libc6:arm64, /lib/aarch64-linux-gnu), not the cross
+  # toolchain's copy (-L /usr/aarch64-linux-gnu), whose pthread_create never returns
+  # under qemu-user 7.2 (scripts/cross_arm64.sh).
+  set(CMAKE_CROSSCOMPILING_EMULATOR ${TMPC_QEMU_AARCH64})
 endif()
