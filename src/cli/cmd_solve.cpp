@@ -109,9 +109,12 @@ void run_solve(const SolveOptionsCli& o) {
       r.softened && r.slack_state >= 0 && r.slack_state < static_cast<int>(a.state_names.size())
           ? a.state_names[static_cast<std::size_t>(r.slack_state)]
           : std::string();
-  const CondensedQp qp = solver->problem().instance(x0);
-  const Eigen::VectorXd y = solver_has_multipliers(o.solver) ? r.y : estimate_multipliers(qp, r.z, 10.0 * o.eps);
-  const KktResiduals k = kkt_residuals(qp, r.z, y);
+  KktResiduals k;  // of the hard QP, where it has a solution
+  if (!r.softened) {
+    const CondensedQp qp = solver->problem().instance(x0);
+    const Eigen::VectorXd y = solver_has_multipliers(o.solver) ? r.y : estimate_multipliers(qp, r.z, 10.0 * o.eps);
+    k = kkt_residuals(qp, r.z, y);
+  }
   const Eigen::Vector4d u0 = r.u0();
   const Eigen::Vector4d u0_phys = u0.cwiseQuotient(a.N_u);
   if (o.json) {
@@ -125,13 +128,12 @@ void run_solve(const SolveOptionsCli& o) {
                         {"solve_us", r.solve_us},
                         {"u_bar0", std::vector<double>(u0.data(), u0.data() + 4)},
                         {"u_bar0_physical", std::vector<double>(u0_phys.data(), u0_phys.data() + 4)},
-                        {"z", std::vector<double>(r.z.data(), r.z.data() + r.z.size())},
-                        {"kkt", {{"stationarity", k.stationarity}, {"primal", k.primal},
-                                 {"complementarity", k.complementarity}, {"dual_sign", k.dual_sign},
-                                 {"multipliers", solver_has_multipliers(o.solver) ? "solver" : "estimated"}}}};
+                        {"z", std::vector<double>(r.z.data(), r.z.data() + r.z.size())}};
     if (r.softened) {
       j["softened_qp"] = {{"status", to_string(r.status)}, {"slack_max", r.slack_max}, {"slack_state", slack_state}};
-      j.erase("kkt");
+    } else {
+      j["kkt"] = {{"stationarity", k.stationarity}, {"primal", k.primal}, {"complementarity", k.complementarity},
+                  {"dual_sign", k.dual_sign}, {"multipliers", solver_has_multipliers(o.solver) ? "solver" : "estimated"}};
     }
     std::printf("%s\n", j.dump(2).c_str());
     return;

@@ -10,9 +10,10 @@ namespace tmpc {
 
 namespace {
 
-/// The hard QP first; when it is certified infeasible or fails numerically, the softened QP (see
-/// controller_solver.hpp). Its result has the hard layout (u_hat); the slacks are
-/// reported in softened, slack_max and slack_state. No allocation per solve.
+/// The hard QP first; when it is certified infeasible or fails numerically, the
+/// softened QP (see controller_solver.hpp). Its result has the hard layout (u_hat);
+/// the slacks are reported in softened, slack_max and slack_state. No allocation per
+/// solve.
 class SoftRecoverySolver final : public QpSolver {
  public:
   SoftRecoverySolver(std::unique_ptr<QpSolver> hard, std::unique_ptr<QpSolver> soft)

@@ -165,7 +165,7 @@ TEST(Mission, WithoutDisturbanceBothLawsTrackToAFifthOfAMillimetre) {
 // (Mayne's law): the exits after the steps go, about 80 QPs after the steps are
 // infeasible and flown softened (the shipped soft constraints; no LQR fallback), two
 // periods leave the state box.
-TEST(Mission, ReinitTradesTheTubeExitsForFallbacks) {
+TEST(Mission, ReinitTradesTheTubeExitsForInfeasibleQps) {
   MissionOptions o;
   o.tube_law = "mayne";
   o.reinitialize_nominal = true;

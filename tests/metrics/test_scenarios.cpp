@@ -45,6 +45,8 @@ TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   EXPECT_FALSE(gusts.diverged);
   EXPECT_EQ(gusts.periods, 6667);
   EXPECT_NEAR(static_cast<double>(gusts.state_constraint_violations), 761.0, 0.05 * 761.0);
+  expect_rmse(gusts, 0.0965, 0.103, 0.0068);
+  EXPECT_NEAR(gusts.violation_max_ratio, 9.35, 0.05 * 9.35);  // a servo rate, in one transient
   // No LQR takeover (1048 periods before soft constraints were shipped): the infeasible
   // QPs, and the two a numerical failure ended, are flown softened; no solve cycles
   // (a softened QP took 4000 steps when its slack curvature was 1e-8, parametric_qp.hpp).
@@ -65,6 +67,7 @@ TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   EXPECT_TRUE(noisy.diverged);  // the servo rates run away: the mission is aborted
   EXPECT_NEAR(static_cast<double>(noisy.periods), 5826.0, 0.05 * 5826.0);
   EXPECT_NEAR(static_cast<double>(noisy.state_constraint_violations), 5310.0, 0.05 * 5310.0);
+  EXPECT_EQ(noisy.fallback_periods, 0);  // the servo rates run away with every QP solved
 }
 
 

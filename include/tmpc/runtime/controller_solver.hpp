@@ -13,12 +13,14 @@ namespace tmpc {
 
 /// `offset_free`: the QP around the disturbance's steady state (artifact.qp(true));
 /// the explicit law, a partition over the nominal state only, refuses it. With the
-/// artifact's soft constraints on (soft_penalty > 0), a QP certified infeasible (or
-/// whose solve ends in a numerical failure) is solved again in the softened form (exact L1 penalty on the state constraints,
-/// inputs hard; parametric_qp.hpp) instead of ending in the LQR fallback: by `name`
-/// when it solves that form (active-set, admm, reference), else by active-set. Where the
-/// hard QP is feasible the softened one has the same solution, so it is solved only
-/// when needed and loses nothing where the hard solve failed on a feasible QP. Throws std::invalid_argument for an unknown name or a bad file.
+/// artifact's soft constraints on (soft_penalty > 0), a QP certified infeasible, or
+/// whose solve ends in a numerical failure, is solved again in the softened form (exact
+/// L1 penalty on the state constraints, inputs hard; parametric_qp.hpp) instead of
+/// ending in the LQR fallback: by `name` when it solves that form (active-set, admm,
+/// reference), else by active-set. Where the hard QP is feasible the softened one has
+/// the same solution, so it is solved only when needed and loses nothing where the
+/// hard solve failed on a feasible QP. Throws std::invalid_argument for an unknown name
+/// or a bad file.
 std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const ControllerArtifact& a,
                                                  const SolverOptions& options, const std::string& explicit_path,
                                                  bool offset_free = false);
