@@ -139,6 +139,8 @@ void thesis_needs_fixed_sets(const MpcQpData& d) {
   // every period (mpc_qp.hpp), which only the exact variant does (through E).
   if (d.disturbances() > 0)
     throw std::invalid_argument("admm-cuda-thesis: no offset-free form (its sets are fixed on the device); use admm-cuda");
+  if (d.rate_weighted())
+    throw std::invalid_argument("admm-cuda-thesis: no input-rate weight (its u-step is built from W_u alone); use admm-cuda");
 }
 std::unique_ptr<QpSolver> make_thesis(const MpcQpData& d, const SolverOptions& o) {
   thesis_needs_fixed_sets(d);

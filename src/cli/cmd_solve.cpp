@@ -60,14 +60,24 @@ std::vector<Eigen::VectorXd> read_batch(const std::string& path, int n) {
   return xs;
 }
 
+/// The QP's parameter for a nominal state: with the input-rate weight, the previous
+/// input v_prev = 0 (the steady input) after it (qp/mpc_qp.hpp).
+Eigen::VectorXd parameter_of(const Eigen::VectorXd& x0, int parameters) {
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(parameters);
+  theta.head(x0.size()) = x0;
+  return theta;
+}
+
 void run_batch(const SolveOptionsCli& o, const ControllerArtifact& a) {
   if (o.solver == "explicit") throw std::runtime_error("--batch: use a QP solver, not explicit");
-  const std::vector<Eigen::VectorXd> xs = read_batch(o.batch, a.n);
+  const MpcQpData d = a.qp();
+  std::vector<Eigen::VectorXd> xs = read_batch(o.batch, a.n);
+  for (Eigen::VectorXd& x : xs) x = parameter_of(x, d.parameters());
   SolverOptions opt;
   opt.eps_abs = opt.eps_rel = o.eps;
   opt.warm_start = false;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<SolveResult> rs = solve_batch(o.solver, a.qp(), opt, xs);
+  const std::vector<SolveResult> rs = solve_batch(o.solver, d, opt, xs);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ofstream file;
   if (!o.out.empty()) {
@@ -96,12 +106,13 @@ void run_solve(const SolveOptionsCli& o) {
     return;
   }
   if (o.x0.empty()) throw std::runtime_error("solve: give --x0 (one state) or --batch FILE (many)");
-  const Eigen::VectorXd x0 = parse_vector(o.x0, a.n, "--x0");
+  const Eigen::VectorXd state = parse_vector(o.x0, a.n, "--x0");
   SolverOptions opt;
   opt.eps_abs = opt.eps_rel = o.eps;
   opt.warm_start = false;
   auto solver = make_controller_solver(o.solver, a, opt,
                                       o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law);
+  const Eigen::VectorXd x0 = parameter_of(state, solver->problem().nx());
   const SolveResult r = solver->solve(x0);
   // The artifact's soft constraints: the hard QP was certified infeasible and r is the
   // softened QP's solution (controller_solver.hpp); the hard QP's KKT test does not apply.

@@ -31,6 +31,11 @@ void ExplicitOptions::validate() const {
 
 MpQp explicit_mpqp(const ControllerArtifact& a, const ExplicitOptions& o) {
   o.validate();
+  if (a.rate_weighted()) {
+    throw std::invalid_argument("explicit MPC: the design has an input-rate weight (weights.input_rate), whose previous "
+                                "input would be m more parameters of the partition; the explicit law does not solve "
+                                "that form: design without it for explicit MPC");
+  }
   const MpcQpData d = build_mpc_qp(a.A, a.B, a.Sigma_rho, a.Sigma_lambda, a.L, a.x_bar, a.u_bar, o.N, o.M);
   const Eigen::VectorXd c = a.x_bar.center(), h = 0.5 * o.domain_fraction * (a.x_bar.hi - a.x_bar.lo);
   return MpQp::from_parametric(ParametricQp::from_mpc(d), Box(c - h, c + h));

@@ -239,6 +239,15 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
         s.fail(s.key("state") + "[" + std::to_string(i) + "]", "weight must be positive");
       }
     }
+    c.input_rate_weights = Eigen::VectorXd::Zero(m);
+    if (s.has("input_rate")) {
+      c.input_rate_weights = to_eigen(s.vector("input_rate", static_cast<std::size_t>(m)));
+      for (int i = 0; i < m; ++i) {
+        if (!(c.input_rate_weights[i] >= 0.0) || !std::isfinite(c.input_rate_weights[i])) {
+          s.fail(s.key("input_rate") + "[" + std::to_string(i) + "]", "weight must be finite and >= 0");
+        }
+      }
+    }
     s.finish();
   }
 

@@ -1,5 +1,7 @@
 #include "tmpc/qp/mpc_qp.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <stdexcept>
 #include <string>
 
@@ -70,6 +72,7 @@ void make_offset_free(MpcQpData& d, const Eigen::MatrixXd& Tx, const Eigen::Matr
                                 ") and Tu (" + std::to_string(Tu.rows()) + "x" + std::to_string(Tu.cols()) +
                                 ") disagree with n = " + std::to_string(d.n) + ", m = " + std::to_string(d.m));
   }
+  if (d.rate_weighted()) throw std::invalid_argument("make_offset_free: call it before add_input_rate_weight (v_prev comes last)");
   d.redundant_rows.clear();  // certified for the other form
   d.domain = ParameterDomain{};
   d.Tx = Tx;
@@ -81,6 +84,37 @@ void make_offset_free(MpcQpData& d, const Eigen::MatrixXd& Tx, const Eigen::Matr
     d.Phi.middleRows(i * d.n, d.n) = S;
     S = Eigen::MatrixXd::Identity(d.n, d.n) + d.A * S;
   }
+}
+
+void add_input_rate_weight(MpcQpData& d, const Eigen::MatrixXd& Sigma_delta) {
+  const int m = d.m;
+  if (Sigma_delta.rows() != m || Sigma_delta.cols() != m) {
+    throw std::invalid_argument("add_input_rate_weight: Sigma_delta is " + std::to_string(Sigma_delta.rows()) + "x" +
+                                std::to_string(Sigma_delta.cols()) + ", expected " + std::to_string(m) + "x" +
+                                std::to_string(m));
+  }
+  if (d.rate_weighted()) throw std::invalid_argument("add_input_rate_weight: the QP already has an input-rate weight");
+  if (!Sigma_delta.allFinite() || (Sigma_delta - Sigma_delta.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + Sigma_delta.cwiseAbs().maxCoeff())) {
+    throw std::invalid_argument("add_input_rate_weight: Sigma_delta must be finite and symmetric");
+  }
+  if (Sigma_delta.isZero(0.0)) return;
+  const double low = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Sigma_delta).eigenvalues().minCoeff();
+  if (low < -1e-9 * Sigma_delta.cwiseAbs().maxCoeff()) {
+    throw std::invalid_argument("add_input_rate_weight: Sigma_delta is not positive semidefinite (eigenvalue " +
+                                std::to_string(low) + ")");
+  }
+  d.redundant_rows.clear();  // certified for the parameter without v_prev
+  d.domain = ParameterDomain{};
+  // Delta' (I (x) S) Delta: S on the diagonal blocks (twice for all but the last: each
+  // u(i), i < M - 1, starts one difference and ends another), -S beside them.
+  for (int i = 0; i < d.M; ++i) {
+    d.H.block(i * m, i * m, m, m) += 2.0 * (i + 1 < d.M ? 2.0 : 1.0) * Sigma_delta;
+    if (i > 0) {
+      d.H.block(i * m, (i - 1) * m, m, m) -= 2.0 * Sigma_delta;
+      d.H.block((i - 1) * m, i * m, m, m) -= 2.0 * Sigma_delta;
+    }
+  }
+  d.Sigma_delta = Sigma_delta;
 }
 
 CondensedQp condensed_qp(const MpcQpData& d, const Eigen::VectorXd& x0) {
@@ -111,9 +145,19 @@ CondensedQp condensed_qp(const MpcQpData& d, const Eigen::VectorXd& x0) {
   return qp;
 }
 
-double mpc_cost(const MpcQpData& d, const Eigen::VectorXd& x0, const Eigen::VectorXd& u_hat) {
+double mpc_cost(const MpcQpData& d, const Eigen::VectorXd& x0, const Eigen::VectorXd& u_hat,
+                const Eigen::VectorXd& v_prev) {
   const Eigen::VectorXd x_hat = d.P * u_hat + d.Q * x0;
-  return x_hat.dot(d.Wx() * x_hat) + u_hat.dot(d.Wu() * u_hat);
+  double v = x_hat.dot(d.Wx() * x_hat) + u_hat.dot(d.Wu() * u_hat);
+  if (d.rate_weighted()) {
+    Eigen::VectorXd before = v_prev.size() == d.m ? v_prev : Eigen::VectorXd::Zero(d.m);
+    for (int i = 0; i < d.M; ++i) {
+      const Eigen::VectorXd step = u_hat.segment(i * d.m, d.m) - before;
+      v += step.dot(d.Sigma_delta * step);
+      before = u_hat.segment(i * d.m, d.m);
+    }
+  }
+  return v;
 }
 
 }  // namespace tmpc

@@ -23,7 +23,8 @@ ParametricQp ParametricQp::from_mpc(const MpcQpData& d) {
   p.H = d.H;
   p.F = Eigen::MatrixXd::Zero(nz, np);
   p.F.leftCols(d.n) = d.F;
-  if (nd > 0) p.F.rightCols(d.n) = 2.0 * d.P.transpose() * d.Wx() * d.Phi;
+  if (nd > 0) p.F.middleCols(d.n + nd, d.n) = 2.0 * d.P.transpose() * d.Wx() * d.Phi;
+  if (d.rate_weighted()) p.F.block(0, d.rate_parameter(), d.m, d.m) = -2.0 * d.Sigma_delta;  // u(0) - v_prev
   p.f0 = Eigen::VectorXd::Zero(nz);
   p.A = Eigen::MatrixXd::Zero(nc, nz);
   p.A.topRows(nz).setIdentity();

@@ -23,7 +23,7 @@ ParameterDomain mpc_parameter_domain(const MpcQpData& d, const Eigen::VectorXd& 
   const int n = d.n, nd = d.disturbances();
   ParameterDomain dom;
   if (nd == 0) {
-    dom.D = Eigen::MatrixXd::Identity(n, n);
+    dom.D = Eigen::MatrixXd::Identity(n, d.parameters());  // v_prev (rate-weighted): free
     dom.lo = d.x_bar.lo;
     dom.hi = d.x_bar.hi;
     return dom;
@@ -113,10 +113,10 @@ RedundancyReport certify_redundant_rows(MpcQpData& d, const Eigen::VectorXd& d_m
   MpcQpData hard = d;
   hard.soft_penalty = 0.0;
   hard.redundant_rows.clear();
-  const ParameterDomain dom = mpc_parameter_domain(hard, d_max, c_max);
-  RedundancyReport rep = redundant_rows(ParametricQp::from_mpc(hard), dom);
+  hard.Sigma_delta.resize(0, 0);  // a row's redundancy does not depend on the cost (nor on v_prev)
+  RedundancyReport rep = redundant_rows(ParametricQp::from_mpc(hard), mpc_parameter_domain(hard, d_max, c_max));
   d.redundant_rows = rep.rows;
-  d.domain = dom;
+  d.domain = mpc_parameter_domain(d, d_max, c_max);
   return rep;
 }
 

@@ -72,6 +72,10 @@ std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const 
       throw std::invalid_argument("solver 'explicit' has no offset-free form (its regions partition the nominal state "
                                   "only): fly it with --tube-law mayne, or use an online solver");
     }
+    if (a.rate_weighted()) {
+      throw std::invalid_argument("solver 'explicit' does not solve the input-rate-weighted QP (weights.input_rate): "
+                                  "use an online solver");
+    }
     if (explicit_path.empty()) throw std::invalid_argument("solver 'explicit' needs the explicit law's file (tmpc explicit)");
     hard = make_explicit_solver(a, load_explicit(explicit_path, &a));
   }

@@ -47,7 +47,8 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
   opt_.validate();
   const int n = a.n, m = a.m, nd = static_cast<int>(a.D.cols());
   x_bar_ = x_n_ = e_ = dev_ = next_ = x_s_ = c_hat_ = x_prev_ = resid_ = Eigen::VectorXd::Zero(n);
-  u_s_ = u_prev_n_ = u_n_ = ub_ = u_raw_ = Eigen::VectorXd::Zero(m);
+  u_s_ = u_prev_n_ = u_n_ = ub_ = u_raw_ = v_prev_ = Eigen::VectorXd::Zero(m);
+  rate_ = a.rate_weighted();
   d_hat_ = d_raw_ = Eigen::VectorXd::Zero(nd);
   z_half_ = a.Z.radius();
   out_.x_bar = Eigen::VectorXd::Zero(n);
@@ -65,7 +66,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       for (int i = 0; i < a.measured; ++i) rows.push_back(i);
     }
     D_pinv_ = disturbance_pseudo_inverse(a.D, rows);
-    theta_ = Eigen::VectorXd::Zero(2 * n + nd);
+    theta_ = Eigen::VectorXd::Zero(2 * n + nd + (rate_ ? m : 0));
     if (opt_.observer == "kalman") {
       if (a.estimator != "kalman") throw std::invalid_argument("tube controller: observer kalman, but the artifact has no Kalman filter");
       const KalmanDesign k = kalman_model(a);
@@ -80,7 +81,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
     }
   } else {
-    theta_ = Eigen::VectorXd::Zero(n);
+    theta_ = Eigen::VectorXd::Zero(n + (rate_ ? m : 0));
   }
   if (solver_ && solver_->problem().nx() != theta_.size()) {
     throw std::invalid_argument("tube controller: the solver takes " + std::to_string(solver_->problem().nx()) +
@@ -107,6 +108,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   d_hat_.setZero();
   c_hat_.setZero();
   u_s_.setZero();
+  v_prev_.setZero();
   x_s_.setZero();
   have_prev_ = false;
   if (solver_) solver_->reset();
@@ -182,10 +184,13 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   out_.tube_worst = static_cast<int>(worst);
   out_.x_bar = x_bar_;
   out_.d_hat = d_hat_;
-  if (!opt_.offset_free) return x_bar_;
-  theta_.head(a_.n) = x_bar_ - x_s_;
-  theta_.segment(a_.n, d_hat_.size()) = d_hat_;
-  theta_.tail(a_.n) = c_hat_;
+  if (!opt_.offset_free && !rate_) return x_bar_;
+  theta_.head(a_.n) = x_bar_ - x_s_;  // x_s = 0 without the observer
+  if (opt_.offset_free) {
+    theta_.segment(a_.n, d_hat_.size()) = d_hat_;
+    theta_.segment(a_.n + d_hat_.size(), a_.n) = c_hat_;
+  }
+  if (rate_) theta_.tail(a_.m) = v_prev_ - u_s_;  // u_hat's coordinates (mpc_qp.hpp)
   return theta_;
 }
 
@@ -219,6 +224,8 @@ const ControlStep& TubeController::finish(const Eigen::VectorXd& u_r, const Solv
     out_.fallback = true;
     ++fallbacks_;
   }
+  // The rate weight's u(-1) next period: the nominal input, or the LQR's after a fallback.
+  if (rate_) v_prev_ = usable ? ub_ : u_n_;
   if (opt_.offset_free) {  // the affine nominal model: + D d_hat + c_hat
     next_.noalias() += a_.D * d_hat_;
     next_ += c_hat_;

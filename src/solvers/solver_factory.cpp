@@ -155,6 +155,10 @@ std::unique_ptr<QpSolver> make_solver(const std::string& name, const MpcQpData& 
                                 "' does not solve the softened QP (soft state constraints); admm, active-set and "
                                 "reference do");
   }
+  if (d.rate_weighted() && (name == "admm-thesis" || name == "cz")) {
+    throw std::invalid_argument("solver '" + name + "' does not solve the input-rate-weighted QP (weights.input_rate); "
+                                "admm, active-set and reference do");
+  }
   if (registered != nullptr) return registered(d, options);
   const ParametricQp qp = ParametricQp::from_mpc(d);
   if (name == "admm") return std::make_unique<detail::AdmmPolytope>(qp, d.M, d.m, d.N, d.n, options);

@@ -119,6 +119,7 @@ MpcQpData ControllerArtifact::qp(bool offset_free, bool soft) const {
     const DisturbanceTarget t = disturbance_target();
     make_offset_free(d, t.Tx, t.Tu);
   }
+  if (rate_weighted()) add_input_rate_weight(d, Sigma_delta);
   if (soft) {
     if (!(soft_penalty > 0.0)) throw std::invalid_argument("the artifact has no soft-constraint penalty (soft_constraints off)");
     d.soft_penalty = soft_penalty;
@@ -235,6 +236,7 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
   a.L = d.L_terminal;
   a.Sigma_rho = d.Sigma_rho_n;
   a.Sigma_lambda = d.Sigma_lambda_n;
+  a.Sigma_delta = d.Sigma_delta_n.size() > 0 ? d.Sigma_delta_n : Eigen::MatrixXd::Zero(a.m, a.m);
   a.X = d.X;
   a.U = d.U;
   a.x_bar = d.x_bar;
@@ -312,6 +314,7 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
   p.matrix("L", a.L);
   p.matrix("Sigma_rho", a.Sigma_rho);
   p.matrix("Sigma_lambda", a.Sigma_lambda);
+  p.matrix("Sigma_delta", a.Sigma_delta.size() > 0 ? a.Sigma_delta : Eigen::MatrixXd::Zero(a.m, a.m));
   for (const auto& [name, box] : {std::pair<std::string, const Box*>{"X", &a.X}, {"U", &a.U}, {"x_bar", &a.x_bar}, {"u_bar", &a.u_bar}}) {
     p.matrix(name + "_lo", box->lo);
     p.matrix(name + "_hi", box->hi);
@@ -414,6 +417,7 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
   a.L = mat("L", n, n);
   a.Sigma_rho = mat("Sigma_rho", n, n);
   a.Sigma_lambda = mat("Sigma_lambda", m, m);
+  a.Sigma_delta = mat("Sigma_delta", m, m);
   a.X = Box(mat("X_lo", n, 1), mat("X_hi", n, 1));
   a.U = Box(mat("U_lo", m, 1), mat("U_hi", m, 1));
   a.x_bar = Box(mat("x_bar_lo", n, 1), mat("x_bar_hi", n, 1));

@@ -140,6 +140,10 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   // The cost is convex and the laws stabilize.
   c.symmetric_psd("Sigma_rho", a.Sigma_rho, false);
   c.symmetric_psd("Sigma_lambda", a.Sigma_lambda, true);
+  if (a.Sigma_delta.size() > 0) {
+    if (a.Sigma_delta.rows() != a.m || a.Sigma_delta.cols() != a.m) c.fail("Sigma_delta", "is not m x m");
+    c.symmetric_psd("Sigma_delta", a.Sigma_delta, false);
+  }
   c.symmetric_psd("L", a.L, false);
   c.symmetric_psd("P_lqr", a.P_lqr, true);
   const MpcQpData qp = a.qp();
@@ -220,6 +224,9 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
            "2 / (input_max - input_min)[" + std::to_string(i) + "]");
     c.near("input_min", a.input_min(i), cfg.input_min(i), 1e-12, "constraints.input_min[" + std::to_string(i) + "]");
     c.near("input_max", a.input_max(i), cfg.input_max(i), 1e-12, "constraints.input_max[" + std::to_string(i) + "]");
+    const double rate = a.Sigma_delta.size() > 0 ? a.Sigma_delta(i, i) : 0.0;
+    c.near("Sigma_delta", rate, cfg.input_rate_weights(i) / (a.N_u(i) * a.N_u(i)), 1e-9,
+           "weights.input_rate[" + std::to_string(i) + "] / N_u^2");
   }
   if (!tilt) {
     if (a.linear_A != cfg.linear.A || a.linear_B != cfg.linear.B || a.linear_D != cfg.linear.D) {

@@ -230,6 +230,8 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
   const Eigen::VectorXd nx_inv = d.em.N_x.cwiseInverse(), nu_inv = d.em.N_u.cwiseInverse();
   d.Sigma_rho_n = (cfg.state_weights.cwiseProduct(nx_inv).cwiseProduct(nx_inv)).asDiagonal();
   d.Sigma_lambda_n = (cfg.input_weights.cwiseProduct(nu_inv).cwiseProduct(nu_inv)).asDiagonal();
+  const Eigen::VectorXd rate = cfg.input_rate_weights.size() == nu_inv.size() ? cfg.input_rate_weights : Eigen::VectorXd::Zero(nu_inv.size());
+  d.Sigma_delta_n = (rate.cwiseProduct(nu_inv).cwiseProduct(nu_inv)).asDiagonal();
   d.vertices.push_back(d.em.A_n);
   for (const Eigen::MatrixXd& A : d.em.A_n_vertices) d.vertices.push_back(A);
   d.X = Box::symmetric(Eigen::VectorXd::Ones(d.em.n));

@@ -82,6 +82,19 @@ TEST(ExplicitLaw, SolverReportsInfeasibleOutsideThePartitionAndRefusesInvalidInp
   EXPECT_EQ(s->solve(nan).status, SolveStatus::InvalidInput);
 }
 
+TEST(ExplicitLaw, SaysItDoesNotSolveTheInputRateWeightedForm) {
+  // Its regions partition the nominal state only; the previous input would be m more
+  // parameters (qp/mpc_qp.hpp): refused by name, not solved for another cost.
+  ControllerArtifact rated = artifact();
+  rated.Sigma_delta = 10.0 * rated.Sigma_lambda;
+  try {
+    explicit_mpqp(rated, options());
+    ADD_FAILURE() << "explicit_mpqp accepted an input-rate-weighted design";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("weights.input_rate"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ExplicitLaw, CompanionFileRoundTripsAndRejectsCorruptionAndAnotherArtifact) {
   const std::vector<std::uint8_t> bytes = serialize_explicit(law());
   const ExplicitLaw back = deserialize_explicit(bytes, "mem");

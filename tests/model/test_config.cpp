@@ -96,6 +96,20 @@ TEST(Config, NonPositiveWeightIsNamed) {
   expect_error(load_with("input: [1.642, 1.646, 38.730, 38.730]", "input: [1.642, 0.0, 38.730, 38.730]"),
                "weights.input[1]", "positive");
   expect_error(load_with("state: [1.265,", "state: [-1.265,"), "weights.state[0]", "positive");
+  // The optional input-rate weight: zeros without it, >= 0 entries, one per input.
+  const std::string rate = "input: [1.642, 1.646, 38.730, 38.730]";
+  expect_error(load_with(rate, rate + "\n  input_rate: [1.0, -2.0, 0.0, 0.0]"), "weights.input_rate[1]", ">= 0");
+  expect_error(load_with(rate, rate + "\n  input_rate: [1.0, 2.0]"), "weights.input_rate", "");
+  const Config plain = load_config_from_string(default_text(), "tiltrotor.yaml");
+  EXPECT_EQ(plain.input_rate_weights, Eigen::VectorXd::Zero(4));
+  const Config rated = load_config_from_string(
+      [&] {
+        std::string t = default_text();
+        t.replace(t.find(rate), rate.size(), rate + "\n  input_rate: [0.0, 0.5, 10.0, 10.0]");
+        return t;
+      }(),
+      "rated.yaml");
+  EXPECT_EQ(rated.input_rate_weights, Eigen::Vector4d(0.0, 0.5, 10.0, 10.0));
   expect_error(load_with("mass: 1.7068", "mass: -1.7068"), "vehicle.body.mass", "positive");
 }
 

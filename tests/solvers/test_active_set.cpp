@@ -226,6 +226,51 @@ TEST(ActiveSet, OffsetFreeAndSoftenedForms) {
   EXPECT_GT(most_slack, 0.0);  // the hard QPs were infeasible
 }
 
+TEST(ActiveSet, InputRateWeightedForm) {
+  // The offset-free QP with an input-rate weight (v_prev the parameter's last 4
+  // entries): active-set and admm against the reference interior point and the KKT
+  // residuals of the full QP; the redundant-row certificate stays valid (it does not
+  // depend on the cost). The thesis' ADMM and the constrained-zonotope form refuse it.
+  SolverOptions cold;
+  cold.warm_start = false;
+  MpcQpData d = artifact().qp(true);
+  add_input_rate_weight(d, 50.0 * artifact().Sigma_lambda);
+  d = certified(d);
+  ASSERT_EQ(d.parameters(), 24 + 3 + 24 + 4);
+  auto ref = make_solver("reference", d, cold);
+  auto as = make_solver("active-set", d, cold);
+  auto admm = make_solver("admm", d, cold);
+  const ParametricQp p = ParametricQp::from_mpc(d);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0.0, worst_z = 0.0, worst_admm = 0.0, moved = 0.0;
+  for (const Eigen::VectorXd& x0 : test::case_study_states(40, 4)) {
+    Eigen::VectorXd theta(d.parameters()), c(24), v(4);
+    for (int i = 0; i < 24; ++i) c(i) = 1e-5 * u(rng);
+    for (int i = 0; i < 4; ++i) v(i) = 0.5 * u(rng) * d.u_bar.hi(i);
+    theta << x0, u(rng), u(rng), u(rng), c, v;
+    const SolveResult r = ref->solve(theta);
+    ASSERT_EQ(r.status, SolveStatus::Converged);
+    const SolveResult a = as->solve(theta);
+    ASSERT_EQ(a.status, SolveStatus::Converged);
+    const SolveResult b = admm->solve(theta);
+    ASSERT_EQ(b.status, SolveStatus::Converged);
+    worst = std::max(worst, rel_kkt(p.instance(theta), a));
+    worst_z = std::max(worst_z, (a.z - r.z).cwiseAbs().maxCoeff());
+    worst_admm = std::max(worst_admm, (b.z - r.z).cwiseAbs().maxCoeff() / (1.0 + r.z.cwiseAbs().maxCoeff()));
+    theta.tail(4).setZero();  // the same QP from a steady previous input: another optimum
+    moved = std::max(moved, (ref->solve(theta).z - r.z).cwiseAbs().maxCoeff());
+  }
+  std::printf("rate-weighted: KKT %.2e, |z - z_ref| %.2e, admm %.2e relative, v_prev moves z by %.3f\n", worst, worst_z,
+              worst_admm, moved);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(worst_z, 1e-6);
+  EXPECT_LT(worst_admm, 1e-2);
+  EXPECT_GT(moved, 1e-3);  // the weight acts through v_prev
+  EXPECT_THROW(make_solver("admm-thesis", d, cold), std::invalid_argument);
+  EXPECT_THROW(make_solver("cz", d, cold), std::invalid_argument);
+}
+
 TEST(ActiveSet, CertifiesInfeasibilityWhereTheLpFindsNoPoint) {
   const MpcQpData d = certified(artifact().qp());
   SolverOptions o;

@@ -264,6 +264,13 @@ TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) 
   a.estimator_rows[3] = a.estimator_rows[2];
   EXPECT_NE(check_error(a).find("record 'estimator_rows'"), std::string::npos) << check_error(a);
   a = back;
+  a.Sigma_delta = -Eigen::MatrixXd::Identity(4, 4);
+  EXPECT_NE(check_error(a).find("record 'Sigma_delta'"), std::string::npos) << check_error(a);
+  a = back;
+  a.Sigma_delta = Eigen::MatrixXd::Identity(4, 4);  // the embedded configuration has no input-rate weight
+  EXPECT_NE(check_error(a).find("record 'Sigma_delta': is 1, the embedded configuration gives 0"), std::string::npos)
+      << check_error(a);
+  a = back;
   a.soft_penalty = 0.0;
   EXPECT_NE(check_error(a).find("record 'soft_penalty': is 0 with soft constraints on"), std::string::npos) << check_error(a);
   a = back;

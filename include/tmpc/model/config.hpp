@@ -223,6 +223,7 @@ struct Config {
   Eigen::VectorXd input_min, input_max;   // absolute actuator limits (m)
   Eigen::VectorXd state_error_max;        // half-widths of the error box X (n)
   Eigen::VectorXd input_weights;          // lambda (Sigma_lambda)
+  Eigen::VectorXd input_rate_weights;     // weights.input_rate: on (u(k) - u(k-1))^2 (m, >= 0; zeros: none)
   Eigen::VectorXd state_weights;          // rho (Sigma_rho)
   SimulationSettings simulation;
   ErrorModelSettings error_model;

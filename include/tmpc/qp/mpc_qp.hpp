@@ -16,6 +16,12 @@
 //   bounds [U_bar - U_s; X_bar - X_s - Q (x0 - x_s) - Phi c], F's c block 2 P'W_x Phi.
 // Softened form (soft_penalty > 0, parametric_qp.hpp): the state constraints with an
 // exact L1 penalty on one slack per state, shared by the horizon; inputs stay hard.
+// Input-rate weight (add_input_rate_weight; not in the thesis, issue 19): V gains
+//   sum_{i=0}^{M-1} (u(i) - u(i-1))' Sigma_delta (u(i) - u(i-1)),  u(-1) = v_prev,
+// the previous period's nominal input (a parameter, after x0 [, d, c]; in the
+// offset-free form v_prev - u_s, as u_hat is): H += 2 Delta'(I (x) Sigma_delta) Delta
+// (Delta: first differences of the M blocks), F's v_prev block -2 Sigma_delta on u(0).
+// Move blocking holds u(i) = u(M-1) for i >= M: no later differences.
 #pragma once
 
 #include <vector>
@@ -49,6 +55,9 @@ struct MpcQpData {
   /// exceeds every state's sum of multipliers over the horizon (design.hpp computes it).
   double soft_penalty = 0.0;
   bool soft() const { return soft_penalty > 0.0; }
+  /// Input-rate weight (m x m, normalized; empty: none), see above.
+  Eigen::MatrixXd Sigma_delta;
+  bool rate_weighted() const { return Sigma_delta.size() > 0; }
   /// Rows of the hard QP (ParametricQp::from_mpc's numbering) certified by LPs never to
   /// bind while the parameter is in `domain` (redundant_rows.hpp; the artifact records
   /// them): the active-set solver leaves them out there. Empty: none known.
@@ -57,8 +66,10 @@ struct MpcQpData {
   int variables() const { return M * m; }
   int disturbances() const { return static_cast<int>(Tx.cols()); }
   bool offset_free() const { return disturbances() > 0; }
-  /// x0, then (offset-free) d and c.
-  int parameters() const { return n + (offset_free() ? disturbances() + n : 0); }
+  /// x0, then (offset-free) d and c, then (rate-weighted) v_prev.
+  int parameters() const { return n + (offset_free() ? disturbances() + n : 0) + (rate_weighted() ? m : 0); }
+  /// Index of v_prev in the parameter (rate-weighted form).
+  int rate_parameter() const { return n + (offset_free() ? disturbances() + n : 0); }
   int state_constraints() const { return N * n; }
   Eigen::MatrixXd Wx() const;      ///< dense W_x
   Eigen::MatrixXd Wu() const;      ///< dense W_u
@@ -66,6 +77,11 @@ struct MpcQpData {
 
 /// Offset-free form: targets (Tx, Tu) of the disturbance and Phi. Throws on sizes.
 void make_offset_free(MpcQpData& d, const Eigen::MatrixXd& Tx, const Eigen::MatrixXd& Tu);
+
+/// Input-rate weight Sigma_delta (m x m, symmetric positive semidefinite; a zero matrix
+/// removes it): H gains 2 Delta'(I (x) Sigma_delta) Delta (above). Throws on sizes, an
+/// asymmetric or indefinite weight, or a second call.
+void add_input_rate_weight(MpcQpData& d, const Eigen::MatrixXd& Sigma_delta);
 
 /// Build P, Q, W_x, W_u and the condensed H, F. Throws on inconsistent sizes.
 MpcQpData build_mpc_qp(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Sigma_rho,
@@ -81,9 +97,12 @@ struct CondensedQp {
   double constant = 0.0;  ///< x0' Q' W_x Q x0: the cost V = 1/2 z'Hz + f'z + constant
 };
 
+/// The hard nominal QP at x0 (rate-weighted: with v_prev = 0, the steady input).
 CondensedQp condensed_qp(const MpcQpData& d, const Eigen::VectorXd& x0);
 
-/// The full cost V(u_hat) of (3.54) at x0, evaluated directly from P, Q, W_x, W_u.
-double mpc_cost(const MpcQpData& d, const Eigen::VectorXd& x0, const Eigen::VectorXd& u_hat);
+/// The full cost V(u_hat) of (3.54) at x0, evaluated directly from P, Q, W_x, W_u, plus
+/// the input-rate term with v_prev (empty: 0) when rate-weighted.
+double mpc_cost(const MpcQpData& d, const Eigen::VectorXd& x0, const Eigen::VectorXd& u_hat,
+                const Eigen::VectorXd& v_prev = Eigen::VectorXd());
 
 }  // namespace tmpc

@@ -3,7 +3,8 @@
 // with z = u_hat. For the polytope formulation A = [I; P], E = [0; Q]. Rows with
 // lo = hi are equalities. Instances are formed without allocation (bounds_into).
 // In the offset-free form the parameter x0 is (x_bar - x_s, d_hat) and E = [Q Tx-stack;
-// Tu-stack] on its two parts (mpc_qp.hpp); nx() counts both.
+// Tu-stack] on its two parts (mpc_qp.hpp); nx() counts both. The input-rate weight's
+// v_prev (mpc_qp.hpp) is the parameter's last m entries: in F only (E's columns zero).
 // Softened form (MpcQpData::soft()): z = (u_hat, s) with one slack s_i >= 0 per state,
 // shared by the N stages, and the exact L1 penalty (Fletcher's l1QP):
 //   min 1/2 u'H u + f'u + rho 1's + eps/2 s's

@@ -113,11 +113,13 @@ class TubeController {
   Eigen::MatrixXd Tx_, Tu_, D_pinv_;
   Eigen::VectorXd theta_, x_s_, x_prev_, resid_;
   Eigen::VectorXd u_s_, u_prev_n_, u_n_, ub_, u_raw_;
+  Eigen::VectorXd v_prev_;  ///< the previous nominal input (normalized): the rate weight's u(-1)
   Eigen::VectorXd d_hat_, d_raw_;
   Eigen::VectorXd c_hat_;
   bool have_prev_ = false;
   // Kalman filter (estimator "kalman").
   bool kalman_ = false;
+  bool rate_ = false;  ///< the artifact's QP has an input-rate weight: theta ends with v_prev - u_s
   bool from_prior_ = false;  // the Kalman filter starts from its prior at the next prepare()
   Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;
   std::vector<int> rows_;

@@ -38,7 +38,7 @@
 
 namespace tmpc {
 
-constexpr std::uint32_t kArtifactVersion = 4;
+constexpr std::uint32_t kArtifactVersion = 5;
 
 /// Every artifact read or write error (the record container's error type).
 using ArtifactError = RecordFileError;
@@ -75,6 +75,8 @@ struct ControllerArtifact {
   std::vector<Eigen::MatrixXd> A_vertices;
   Eigen::MatrixXd K, K_lqr, P_lqr, L;
   Eigen::MatrixXd Sigma_rho, Sigma_lambda;
+  Eigen::MatrixXd Sigma_delta;   ///< input-rate weight (m x m, normalized; zero: none; mpc_qp.hpp)
+  bool rate_weighted() const { return Sigma_delta.size() > 0 && !Sigma_delta.isZero(0.0); }
   Box X, U, x_bar, u_bar;
   Zonotope Z, W;
   Eigen::VectorXd u_eq;          ///< hover inputs (physical; zero for a linear model)

@@ -68,6 +68,7 @@ struct ControllerDesign {
   EnvelopeSettings envelope;                   ///< resolved (a box, also from trajectories)
   ErrorModel em;
   Eigen::MatrixXd Sigma_rho_n, Sigma_lambda_n;  ///< weights in normalized coordinates
+  Eigen::MatrixXd Sigma_delta_n;                 ///< input-rate weight, normalized (zero: none)
   std::vector<Eigen::MatrixXd> vertices;       ///< normalized A: nominal first, then the vertices (none: LTI)
   Zonotope W;                                  ///< normalized uncertainty set
   std::string w_description;
