@@ -29,6 +29,14 @@ struct DesignOptions {
   bool explicit_law = false;
 };
 
+/// weights.input_rate as designed (physical: Sigma_delta's diagonal times N_u^2; zeros: none).
+std::vector<double> input_rate_weights(const ControllerArtifact& a) {
+  std::vector<double> w(static_cast<std::size_t>(a.m), 0.0);
+  if (a.Sigma_delta.size() == 0) return w;
+  for (int i = 0; i < a.m; ++i) w[static_cast<std::size_t>(i)] = a.Sigma_delta(i, i) * a.N_u(i) * a.N_u(i);
+  return w;
+}
+
 void run_design(const DesignOptions& o) {
   const std::string text = read_config_text(o.config);
   const Config cfg = load_config_from_string(text, o.config);
@@ -56,6 +64,7 @@ void run_design(const DesignOptions& o) {
                              {"calibrated", soft.samples > 0},
                              {"largest_multiplier_sum", soft.largest_multiplier_sum},
                              {"samples", soft.samples}};
+    j["input_rate_weights"] = input_rate_weights(a);
     r << j.dump(2) << "\n";
   }
   const GainDesign& g = d.gains[static_cast<std::size_t>(d.selected)];
@@ -146,7 +155,8 @@ void run_inspect(const std::string& file, bool json) {
                         {"state_names", a.state_names}, {"input_names", a.input_names},
                         {"sample_time", a.sample_time}, {"tube_gain", a.tube_gain}, {"rpi_variant", a.rpi_variant},
                         {"terminal_cost", a.terminal_cost}, {"vertices", a.A_vertices.size()},
-                        {"z_generators", a.Z.order()}, {"robustness_margin", a.margin}};
+                        {"z_generators", a.Z.order()}, {"robustness_margin", a.margin},
+                        {"input_rate_weights", input_rate_weights(a)}};
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
@@ -163,6 +173,11 @@ void run_inspect(const std::string& file, bool json) {
   std::printf("  tube gain %s, RPI %s (%d generators), terminal cost %s, %zu LPV vertices\n", a.tube_gain.c_str(),
               a.rpi_variant.c_str(), a.Z.order(), a.terminal_cost.c_str(), a.A_vertices.size());
   std::printf("  robustness margin %.3f\n", a.margin);
+  if (a.rate_weighted()) {
+    std::printf("  input-rate weights (weights.input_rate, physical):");
+    for (double w : input_rate_weights(a)) std::printf(" %.4g", w);
+    std::printf("\n");
+  }
   std::printf("  tightened input set (physical, error coordinates):\n");
   for (int i = 0; i < a.m; ++i) {
     std::printf("    %-6s [%.4f, %.4f] of [%.4f, %.4f]\n", a.input_names[static_cast<std::size_t>(i)].c_str(), a.u_bar.lo(i) / a.N_u(i),
