@@ -45,7 +45,8 @@ TEST(SoftConstraints, TheLayoutIsTheHardQpWithOneSlackPerState) {
 }
 
 /// States along random rays at the given fractions of where the hard QP turns
-/// infeasible (found by admm's certificate), from `seed`.
+/// infeasible (found by admm's certificate), from `seed`, as the QP's parameters (the
+/// design's input-rate weight: with the steady previous input, v_prev = 0).
 std::vector<Eigen::VectorXd> rays(const MpcQpData& d, int count, const std::vector<double>& fractions, unsigned seed) {
   SolverOptions o;
   o.warm_start = false;
@@ -54,7 +55,7 @@ std::vector<Eigen::VectorXd> rays(const MpcQpData& d, int count, const std::vect
   std::normal_distribution<double> normal;
   std::vector<Eigen::VectorXd> out;
   for (int k = 0; k < count; ++k) {
-    Eigen::VectorXd dir(d.n);
+    Eigen::VectorXd dir = Eigen::VectorXd::Zero(d.parameters());
     for (int i = 0; i < d.n; ++i) dir(i) = normal(rng);
     dir /= dir.cwiseAbs().maxCoeff();
     double lo = 0.0, hi = 1.0;

@@ -267,9 +267,11 @@ TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) 
   a.Sigma_delta = -Eigen::MatrixXd::Identity(4, 4);
   EXPECT_NE(check_error(a).find("record 'Sigma_delta'"), std::string::npos) << check_error(a);
   a = back;
-  a.Sigma_delta = Eigen::MatrixXd::Identity(4, 4);  // the embedded configuration has no input-rate weight
-  EXPECT_NE(check_error(a).find("record 'Sigma_delta': is 1, the embedded configuration gives 0"), std::string::npos)
-      << check_error(a);
+  ASSERT_TRUE(back.rate_weighted());  // the noisy design's weights.input_rate
+  EXPECT_EQ(back.Sigma_delta, n.Sigma_delta);
+  a.Sigma_delta *= 2.0;  // not what the embedded configuration gives
+  EXPECT_NE(check_error(a).find("record 'Sigma_delta': is "), std::string::npos) << check_error(a);
+  EXPECT_NE(check_error(a).find("weights.input_rate[0]"), std::string::npos) << check_error(a);
   a = back;
   a.soft_penalty = 0.0;
   EXPECT_NE(check_error(a).find("record 'soft_penalty': is 0 with soft constraints on"), std::string::npos) << check_error(a);
