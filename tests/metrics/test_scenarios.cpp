@@ -104,7 +104,22 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   }
   EXPECT_NEAR(chatter.tcv[2], 2.47, 0.05 * 2.47);
   EXPECT_NEAR(noisy.tcv[2], 1.79, 0.05 * 1.79);
+  EXPECT_NEAR(chatter.tcv[0], 118.0, 0.05 * 118.0);
+  EXPECT_NEAR(noisy.tcv[0], 87.0, 0.05 * 87.0);
   EXPECT_NEAR(chatter.rmse[2], 0.0093, 0.02 * 0.0093);
+  // Ten times that weight (100 x lambda): less variation still, z a little worse.
+  ControllerArtifact heavier = a;
+  heavier.Sigma_delta *= 10.0;
+  const MissionMetrics calm = fly("noisy_sensors", heavier);
+  EXPECT_EQ(calm.state_constraint_violations, 0);
+  EXPECT_NEAR(calm.tcv[2], 1.53, 0.05 * 1.53);
+  EXPECT_NEAR(calm.tcv[0], 79.0, 0.05 * 79.0);
+  EXPECT_NEAR(calm.rmse[2], 0.0108, 0.02 * 0.0108);
+  // Why the shipped design has none: 10 x lambda moves its noise-free z RMSE from
+  // 0.0021 to 0.0029 m (the issue allows 10 %).
+  ControllerArtifact shipped_rated = test::artifact();
+  shipped_rated.Sigma_delta = 10.0 * shipped_rated.Sigma_lambda;
+  EXPECT_NEAR(fly("thesis_helix", shipped_rated).rmse[2], 0.0029, 0.02 * 0.0029);
   const MissionMetrics quiet = fly("thesis_helix", a);
   EXPECT_EQ(quiet.state_constraint_violations, 0);
   EXPECT_NEAR(quiet.rmse[0], 0.0285, 0.02 * 0.0285);
@@ -112,7 +127,7 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   EXPECT_NEAR(quiet.rmse[2], 0.0100, 0.02 * 0.0100);
   const MissionMetrics held = fly("sustained_force", a);  // 3 N from 10 s: every QP infeasible
   expect_softened_flight(held, 5809.0, 5794.0);  // no LQR takeover: the softened QP flies
-  EXPECT_LT(held.violation_max_ratio, 8.0);  // measured 6.7 (d_z, in the step's transient)
+  EXPECT_NEAR(held.violation_max_ratio, 6.7, 0.05 * 6.7);  // d_z, in the step's transient
   const MissionMetrics gusts = fly("gusts", a);
   expect_softened_flight(gusts, 718.0, 911.0);  // (1048 fallbacks with the shipped design before soft constraints)
   EXPECT_NEAR(gusts.violation_max_ratio, 1.83, 0.05 * 1.83);  // a servo rate
@@ -129,11 +144,13 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   EXPECT_NEAR(static_cast<double>(loud.state_constraint_violations), 11.0, 0.1 * 11.0 + 2.0);
   EXPECT_NEAR(loud.violation_max_ratio, 1.20, 0.05 * 1.20);  // a servo rate
   EXPECT_NEAR(loud.rmse[0], 0.0464, 0.02 * 0.0464);
+  EXPECT_NEAR(loud.rmse[1], 0.0353, 0.02 * 0.0353);
+  EXPECT_NEAR(loud.rmse[2], 0.0113, 0.02 * 0.0113);
   expect_softened_flight(fly("gusts_2n", a), 1405.0, 1480.0);
   // The shipped design (residual observer): the doubled noise aborts the flight at once.
   const MissionMetrics raw = fly("noisy_sensors_x2");
   EXPECT_TRUE(raw.diverged);
-  EXPECT_LT(raw.periods, 100);
+  EXPECT_NEAR(static_cast<double>(raw.periods), 3.0, 2.0);
   expect_softened_flight(fly("gusts_2n"), 1309.0, 1392.0);
 }
 
@@ -155,12 +172,15 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
   // violations and fallback periods per run: the shipped design, the noisy-sensor one.
   // (before the shipped design had soft constraints: 0, 4, 42 violations, 0, 15, 91 fallbacks)
   const long shipped_v[3] = {0, 1, 15}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 48, 63}, noisy_f[3] = {0, 0, 0};
+  const long shipped_s[3] = {0, 30, 92}, noisy_s[3] = {0, 0, 98};  // softened periods
   for (int run = 0; run < 3; ++run) {
     const MissionMetrics s = fly_run(test::artifact(), run), n = fly_run(test::noisy_artifact(), run);
     near(s.state_constraint_violations, shipped_v[run]);
     near(s.fallback_periods, shipped_f[run]);
     near(n.state_constraint_violations, noisy_v[run]);
     near(n.fallback_periods, noisy_f[run]);
+    near(s.softened_periods, shipped_s[run]);
+    near(n.softened_periods, noisy_s[run]);
   }
 }
 
