@@ -22,8 +22,8 @@
 namespace tmpc {
 namespace {
 
-/// One run: the plant side sends 30 periods of states, is silent for 25, sends 30
-/// more; the control frames it gets back, counted by their flags.
+/// One run: once the loop answers, the plant side sends 30 periods of states, is silent
+/// for 25, sends 30 more; the control frames it gets back, counted by their flags.
 struct SilentLinkRun {
   ControllerLoopStats st;
   int got = 0, safe_while_talking = 0, safe_while_silent = 0, normal_while_silent = 0;
@@ -45,6 +45,19 @@ SilentLinkRun silent_link_run(const ControllerArtifact& a, ReferenceGenerator& t
 
   io::Decoder controls(io::control_decoder_settings(4));
   std::uint8_t buf[512];
+  // Like a plant, start the script once the controller answers: its set-up (solver
+  // factorisation, telemetry file) takes a variable time (long under a sanitizer), and
+  // a frame count over a window the loop was not yet running in would judge the host.
+  // Before any state the loop sends the safe command every period.
+  const auto up_by = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  bool answered = false;
+  while (!answered && std::chrono::steady_clock::now() < up_by) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    for (long n; !answered && (n = pty.master->read_some(buf, sizeof(buf))) > 0;) {
+      for (long i = 0; i < n; ++i) answered = controls.push(buf[i]) || answered;
+    }
+  }
+  EXPECT_TRUE(answered) << "the controller loop sent no frame within 20 s of its start";
   const auto period = std::chrono::milliseconds(12);
   auto next = std::chrono::steady_clock::now();
   for (int k = 0; k < 85; ++k) {
