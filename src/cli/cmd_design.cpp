@@ -134,8 +134,13 @@ void run_design(const DesignOptions& o) {
     }
   }
   if (d.of_computed) {
-    std::printf("output-feedback tube (Mayne et al. 2006): the sets hold up to %.4g times the configured noise (%s)\n",
-                d.of.noise_margin, d.output_feedback ? "applied" : "not applied: estimation.output_feedback_tube is false");
+    const bool gaussian = d.cfg.estimation.output_feedback_noise == "gaussian";
+    std::printf("output-feedback tube (Mayne et al. 2006): the sets hold up to %.4g times the configured noise box "
+                "(bounded noise), %.4g times its standard deviations (Gaussian noise, chance constraints at %g sigma)%s\n",
+                d.of.noise_margin, d.of.noise_margin_gaussian, d.cfg.estimation.noise_bound_sigmas,
+                !d.output_feedback ? "; not applied: estimation.output_feedback_tube is false"
+                : gaussian         ? "; the Gaussian form applied"
+                                   : "; the bounded form applied");
   }
   if (a.soft_constraints) {
     std::printf("soft state constraints: penalty %.4g%s\n", a.soft_penalty,

@@ -302,6 +302,7 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
       q.finish();
     }
     e.output_feedback_tube = s.has("output_feedback_tube") && s.flag("output_feedback_tube");
+    if (s.has("output_feedback_noise")) e.output_feedback_noise = s.text("output_feedback_noise", {"bounded", "gaussian"});
     if (s.has("noise_bound_sigmas")) e.noise_bound_sigmas = s.number_in("noise_bound_sigmas", 0.5, 10.0);
     if (s.has("force_rate_bound")) e.force_rate_bound = s.number_in("force_rate_bound", 0.0, 1e3);
     if (s.has("residual_rate_bound")) e.residual_rate_bound = s.number_in("residual_rate_bound", 0.0, 1.0);

@@ -253,8 +253,10 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
     a.estimator_L = d.kf.L;
   }
   a.estimation_error_radius = Eigen::VectorXd::Zero(a.n);
-  if (d.of_computed) a.noise_margin = d.of.noise_margin;
-  if (d.output_feedback) a.estimation_error_radius = d.of.e_x_radius;
+  // The applied form's figures (the bounded form's when none is applied).
+  const bool gaussian = c.estimation.output_feedback_noise == "gaussian";
+  if (d.of_computed) a.noise_margin = gaussian ? d.of.noise_margin_gaussian : d.of.noise_margin;
+  if (d.output_feedback) a.estimation_error_radius = gaussian ? d.of.e_x_radius_gaussian : d.of.e_x_radius;
   a.soft_constraints = c.soft_constraints.enabled;
   a.soft_penalty = c.soft_constraints.enabled ? c.soft_constraints.penalty : 0.0;
   a.certify_redundant_rows();

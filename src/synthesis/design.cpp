@@ -466,19 +466,30 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
       d.of = in_section(cfg, "estimation.output_feedback_tube",
                         [&] { return output_feedback_tube(d.kf, loops, d.K, W_a, V, d.X, d.U, syn.rpi_lambda); });
       d.of_computed = true;
-      const std::string msg = empty_message(d, d.of.x_bar, d.of.u_bar);
+      const bool gaussian = e.output_feedback_noise == "gaussian";
+      const std::string msg = gaussian ? empty_message(d, d.of.x_bar_gaussian, d.of.u_bar_gaussian)
+                                       : empty_message(d, d.of.x_bar, d.of.u_bar);
       if (e.output_feedback_tube && !msg.empty()) {
         std::ostringstream os;
-        os << cfg.source << ": estimation: the output-feedback tube at " << e.noise_bound_sigmas
-           << " standard deviations of the measurement noise: " << msg << " (the sets hold up to "
-           << d.of.noise_margin << " times that noise)";
+        os << cfg.source << ": estimation: the output-feedback tube (" << e.output_feedback_noise << " noise) at "
+           << e.noise_bound_sigmas << " standard deviations of the measurement noise: " << msg
+           << " (the sets hold up to " << (gaussian ? d.of.noise_margin_gaussian : d.of.noise_margin)
+           << " times that noise)";
         throw ConfigError(os.str());
       }
       if (e.output_feedback_tube) {
         d.output_feedback = true;
-        d.tube.Z = d.of.Z_c;
-        d.x_bar = d.of.x_bar;
-        d.u_bar = d.of.u_bar;
+        if (gaussian) {
+          const Zonotope delta_box(Eigen::VectorXd::Zero(d.of.delta_sigmas_v.size()),
+                                   Eigen::MatrixXd(d.of.delta_sigmas_v.asDiagonal()));
+          d.tube.Z = d.of.Z_W.plus(delta_box);
+          d.x_bar = d.of.x_bar_gaussian;
+          d.u_bar = d.of.u_bar_gaussian;
+        } else {
+          d.tube.Z = d.of.Z_c;
+          d.x_bar = d.of.x_bar;
+          d.u_bar = d.of.u_bar;
+        }
       }
     }
   }

@@ -129,10 +129,17 @@ std::string design_report_json(const ControllerDesign& d) {
                        {"estimation_error_std", vec(sd)},
                        {"noise_tradeoff", trade},
                        {"output_feedback_tube", {{"applied", d.output_feedback},
+                                                 {"noise", d.cfg.estimation.output_feedback_noise},
                                                  {"noise_margin", d.of_computed ? d.of.noise_margin : 0.0},
                                                  {"estimation_error_half_widths", d.of_computed ? vec(d.of.e_x_radius.cwiseQuotient(d.em.N_x)) : nlohmann::json()},
                                                  {"control_tube_half_widths", d.of_computed ? vec(d.of.Z_c.radius().cwiseQuotient(d.em.N_x)) : nlohmann::json()},
-                                                 {"j_estimation", d.of.j_estimation}}}};
+                                                 {"j_estimation", d.of.j_estimation},
+                                                 {"gaussian", d.of_computed ? nlohmann::json{
+                                                     {"noise_margin", d.of.noise_margin_gaussian},
+                                                     {"estimation_error_half_widths", vec(d.of.e_x_radius_gaussian.cwiseQuotient(d.em.N_x))},
+                                                     {"state_error_half_widths", vec(d.of.x_sigmas_v.cwiseQuotient(d.em.N_x))},
+                                                     {"input_error_half_widths", vec(d.of.u_sigmas_v.cwiseQuotient(d.em.N_u))}}
+                                                                            : nlohmann::json()}}}};
   } else {
     j["estimation"] = {{"observer", "residual"}};
   }

@@ -141,7 +141,50 @@ OutputFeedbackTube output_feedback_tube(const KalmanDesign& k, const std::vector
   limit(X.half_width(), hx_w, hx_v);
   limit(U.half_width(), hu_w, hu_v);
   t.noise_margin = s;
+
+  // Gaussian form: the joint error (e_v, delta_v) driven by v with cov diag(V^2).
+  const Eigen::MatrixXd& AK = closed_loops.front();
+  Eigen::MatrixXd As = Eigen::MatrixXd::Zero(na + n, na + n);
+  As.topLeftCorner(na, na) = Se;
+  As.bottomLeftCorner(n, na) = LCA;
+  As.bottomRightCorner(n, n) = AK;
+  Eigen::MatrixXd G(na + n, ny);
+  G.topRows(na) = -k.L;
+  G.bottomRows(n) = Lx;
+  const Eigen::MatrixXd GV = G * V.asDiagonal();
+  const Eigen::MatrixXd Sigma = stationary_covariance(As, GV * GV.transpose());
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n, na + n);
+  T.leftCols(p) = Eigen::MatrixXd::Identity(n, p);
+  T.rightCols(n).setIdentity();
+  t.x_sigmas_v = (T * Sigma * T.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
+  t.e_x_sigmas_v = Eigen::VectorXd::Zero(n);
+  t.e_x_sigmas_v.head(p) = Sigma.topLeftCorner(p, p).diagonal().cwiseMax(0.0).cwiseSqrt();
+  t.e_x_radius_gaussian = ex_w + t.e_x_sigmas_v;
+  const Eigen::MatrixXd Sd = Sigma.bottomRightCorner(n, n);
+  t.delta_sigmas_v = Sd.diagonal().cwiseMax(0.0).cwiseSqrt();
+  t.u_sigmas_v = (K * Sd * K.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
+  t.x_bar_gaussian = X.minus(Zonotope(Eigen::VectorXd::Zero(n), Eigen::MatrixXd((hx_w + t.x_sigmas_v).asDiagonal())));
+  t.u_bar_gaussian = U.minus(Zonotope(Eigen::VectorXd::Zero(K.rows()), Eigen::MatrixXd((hu_w + t.u_sigmas_v).asDiagonal())));
+  s = std::numeric_limits<double>::infinity();
+  limit(X.half_width(), hx_w, t.x_sigmas_v);
+  limit(U.half_width(), hu_w, t.u_sigmas_v);
+  t.noise_margin_gaussian = s;
   return t;
+}
+
+Eigen::MatrixXd stationary_covariance(const Eigen::MatrixXd& A, const Eigen::MatrixXd& Q) {
+  if (A.rows() != A.cols() || Q.rows() != A.rows() || Q.cols() != A.rows()) {
+    throw std::invalid_argument("stationary_covariance: A and Q must be square of one size");
+  }
+  // After j doublings Sigma sums the first 2^j terms; A^(2^j) -> 0 for a stable A.
+  Eigen::MatrixXd Sigma = Q, Ak = A;
+  for (int j = 0; j < 64; ++j) {
+    Sigma += Ak * Sigma * Ak.transpose();
+    Ak = Ak * Ak;
+    if (!Ak.allFinite()) break;
+    if (Ak.cwiseAbs().maxCoeff() < 1e-14) return 0.5 * (Sigma + Sigma.transpose());
+  }
+  throw std::runtime_error("stationary_covariance: the loop is not stable (the sum does not converge)");
 }
 
 }  // namespace tmpc

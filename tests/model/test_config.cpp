@@ -294,6 +294,8 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   };
   EXPECT_EQ(with(est), "");
   expect_error(with(est + "  output_feedback_tube: maybe\n"), "estimation.output_feedback_tube", "expected true or false");
+  expect_error(with(est + "  output_feedback_noise: loud\n"), "estimation.output_feedback_noise", "unknown value 'loud'");
+  EXPECT_EQ(with(est + "  output_feedback_noise: gaussian\n"), "");
   std::string bad = est;
   bad.replace(bad.find("observer: kalman"), 16, "observer: luenberger");
   expect_error(with(bad), "estimation.observer", "unknown value 'luenberger'");

@@ -111,21 +111,32 @@ ControllerArtifact cached_artifact(const std::string& tag, const std::string& co
   return made;
 }
 
+/// A shipped configuration (config/NAME.yaml) designed quick like quick_config(),
+/// cached like quick_artifact() under `tag`.
+inline ControllerArtifact quick_shipped_artifact(const std::string& name, const std::string& tag) {
+  const std::string path = source_dir() + "/config/" + name + ".yaml";
+  const std::string text = read_config_text(path);
+  return cached_artifact(tag, text, [&] {
+    Config cfg = load_config_from_string(text, path);
+    cfg.synthesis.compare_gains = false;
+    cfg.synthesis.verify_directions = 200;
+    ControllerArtifact made = make_artifact(design_controller(cfg, text));
+    apply_soft_penalty(made, cfg.soft_constraints.safety_factor);
+    return made;
+  });
+}
+
 /// The noisy-sensor design (config/tiltrotor_noisy.yaml: Kalman filter, softer tube
-/// gain, soft constraints), quick like quick_config(); cached like quick_artifact().
+/// gain, soft constraints).
 inline const ControllerArtifact& noisy_artifact() {
-  static const ControllerArtifact a = [] {
-    const std::string path = source_dir() + "/config/tiltrotor_noisy.yaml";
-    const std::string text = read_config_text(path);
-    return cached_artifact("noisy", text, [&] {
-      Config cfg = load_config_from_string(text, path);
-      cfg.synthesis.compare_gains = false;
-      cfg.synthesis.verify_directions = 200;
-      ControllerArtifact made = make_artifact(design_controller(cfg, text));
-      apply_soft_penalty(made, cfg.soft_constraints.safety_factor);
-      return made;
-    });
-  }();
+  static const ControllerArtifact a = quick_shipped_artifact("tiltrotor_noisy", "noisy");
+  return a;
+}
+
+/// The noisy-sensor design with the Gaussian output-feedback tube applied
+/// (config/tiltrotor_noisy_tube.yaml).
+inline const ControllerArtifact& noisy_tube_artifact() {
+  static const ControllerArtifact a = quick_shipped_artifact("tiltrotor_noisy_tube", "noisy-tube");
   return a;
 }
 

@@ -2,7 +2,8 @@
 // (estimator.hpp), on a double integrator with a force disturbance: the gain against
 // the filter Riccati equation written here, the filter's error statistics against its
 // covariance by simulation, the disturbance estimate against the true force, and the
-// tube's sets by simulating the closed loop under bounded noise (sampled invariance).
+// tube's sets by simulating the closed loop under bounded noise (sampled invariance),
+// its Gaussian form's standard deviations by simulating it under white Gaussian noise.
 #include <random>
 
 #include <Eigen/LU>
@@ -142,6 +143,71 @@ TEST(OutputFeedbackTube, TheSetsHoldTheSimulatedLoopUnderBoundedNoise) {
   const OutputFeedbackTube above = output_feedback_tube(k, {p.A + p.B * K}, K, W_a, V * (1.01 * t.noise_margin), X, U, 0.05);
   EXPECT_FALSE(below.x_bar.empty() || below.u_bar.empty());
   EXPECT_TRUE(above.x_bar.empty() || above.u_bar.empty());
+}
+
+TEST(OutputFeedbackTube, TheGaussianFormHasTheSimulatedLoopsStandardDeviations) {
+  // The loop of the test above with w = 0, v white Gaussian of std sigma (the noise
+  // part alone) and the force estimate compensated: x - x_bar and u - u_bar sampled over long runs against x_sigmas_v and
+  // u_sigmas_v for V = sigma (one standard deviation), and the share of steps outside
+  // 3 sigma against a normal's.
+  const Plant p = double_integrator();
+  const KalmanDesign k = design_kalman(p.A, p.B, p.D, Eigen::MatrixXd(2, 0), {0}, Eigen::Vector3d(1e-6, 1e-6, 1e-4).asDiagonal(),
+                                       Eigen::Matrix<double, 1, 1>::Constant(1e-4));
+  const Eigen::MatrixXd K = solve_dlqr(p.A, p.B, Eigen::Vector2d(10.0, 1.0).asDiagonal(), Eigen::Matrix<double, 1, 1>::Constant(0.1)).K;
+  const double sigma = 0.01;
+  const Box X = Box::symmetric(Eigen::Vector2d(1.0, 2.0)), U = Box::symmetric(Eigen::VectorXd::Constant(1, 5.0));
+  const OutputFeedbackTube t = output_feedback_tube(k, {p.A + p.B * K}, K, Eigen::Vector3d(1e-4, 1e-4, 2e-3),
+                                                    Eigen::VectorXd::Constant(1, sigma), X, U, 0.05);
+  ASSERT_EQ(t.x_sigmas_v.size(), 2);
+  ASSERT_EQ(t.u_sigmas_v.size(), 1);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  Eigen::Vector2d sum_sq = Eigen::Vector2d::Zero();
+  double u_sq = 0.0;
+  long outside = 0, samples = 0;
+  for (int run = 0; run < 8; ++run) {
+    Eigen::Vector3d xi = Eigen::Vector3d::Zero(), est = Eigen::Vector3d::Zero();
+    for (int step = 0; step < 20000; ++step) {
+      // x_bar = 0; the offset-free law's input target cancels the force estimate
+      // (matched here: D = B), u_bar = -d_hat, so x_hat+ = (A + B K) x_hat + L_x nu.
+      const double u = (K * est.head(2))(0) - est(2);
+      xi = k.A_a * xi + k.B_a * u;
+      const double y = xi(0) + sigma * normal(rng);
+      const Eigen::Vector3d pred = k.A_a * est + k.B_a * u;
+      est = pred + k.L * (y - pred(0));
+      if (step < 2000) continue;  // the filter's and loop's transients
+      sum_sq += xi.head(2).cwiseAbs2();
+      const double u_next = (K * est.head(2))(0);
+      u_sq += u_next * u_next;
+      for (int i = 0; i < 2; ++i) outside += std::abs(xi(i)) > 3.0 * t.x_sigmas_v(i);
+      ++samples;
+    }
+  }
+  const Eigen::Vector2d sd = (sum_sq / static_cast<double>(samples)).cwiseSqrt();
+  const double sd_u = std::sqrt(u_sq / static_cast<double>(samples));
+  std::printf("x - x_bar std: simulated (%.4g, %.4g), computed (%.4g, %.4g); u: %.4g, %.4g; outside 3 sigma %.3f %%\n",
+              sd(0), sd(1), t.x_sigmas_v(0), t.x_sigmas_v(1), sd_u, t.u_sigmas_v(0),
+              100.0 * static_cast<double>(outside) / static_cast<double>(2 * samples));
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(sd(i), t.x_sigmas_v(i), 0.05 * t.x_sigmas_v(i)) << i;
+  EXPECT_NEAR(sd_u, t.u_sigmas_v(0), 0.05 * t.u_sigmas_v(0));
+  // A normal leaves +-3 sigma 0.27 % of the time.
+  EXPECT_LT(static_cast<double>(outside) / static_cast<double>(2 * samples), 0.006);
+  EXPECT_GT(t.noise_margin_gaussian, t.noise_margin);  // white noise averages; a bias in the box does not
+  // Its noise margin is where its sets empty.
+  const OutputFeedbackTube below = output_feedback_tube(k, {p.A + p.B * K}, K, Eigen::Vector3d(1e-4, 1e-4, 2e-3),
+                                                        Eigen::VectorXd::Constant(1, 0.99 * sigma * t.noise_margin_gaussian), X, U, 0.05);
+  const OutputFeedbackTube above = output_feedback_tube(k, {p.A + p.B * K}, K, Eigen::Vector3d(1e-4, 1e-4, 2e-3),
+                                                        Eigen::VectorXd::Constant(1, 1.01 * sigma * t.noise_margin_gaussian), X, U, 0.05);
+  EXPECT_FALSE(below.x_bar_gaussian.empty() || below.u_bar_gaussian.empty());
+  EXPECT_TRUE(above.x_bar_gaussian.empty() || above.u_bar_gaussian.empty());
+}
+
+TEST(StationaryCovariance, SolvesTheLyapunovEquationAndRefusesAnUnstableLoop) {
+  const Eigen::Matrix2d A = (Eigen::Matrix2d() << 0.9, 0.2, -0.1, 0.95).finished();
+  const Eigen::Matrix2d Q = (Eigen::Matrix2d() << 2.0, 0.3, 0.3, 1.0).finished();
+  const Eigen::MatrixXd S = stationary_covariance(A, Q);
+  EXPECT_LT((A * S * A.transpose() + Q - S).norm(), 1e-10 * S.norm());
+  EXPECT_THROW(stationary_covariance(Eigen::Matrix2d::Identity() * 1.01, Q), std::runtime_error);
 }
 
 }  // namespace

@@ -131,6 +131,10 @@ struct EstimationSettings {
   double process_force = 0.02;           ///< Q of the disturbance (N per step, random walk)
   double process_residual = 1e-3;        ///< Q of the residual channels (normalized per step)
   bool output_feedback_tube = false;     ///< tighten by the estimation error set too
+  /// How the tube bounds the measurement noise (estimator.hpp): "bounded" (a box of
+  /// noise_bound_sigmas standard deviations, Mayne et al. 2006) or "gaussian" (white
+  /// Gaussian noise: noise_bound_sigmas standard deviations of the errors it causes).
+  std::string output_feedback_noise = "bounded";
   double noise_bound_sigmas = 3.0;       ///< the tube's noise box: this many standard deviations
   double force_rate_bound = 0.02;        ///< the tube's bound on the force's change per step, N
   double residual_rate_bound = 0.0;      ///< the tube's bound on the residuals' change per step (normalized)

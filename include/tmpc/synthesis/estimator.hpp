@@ -30,6 +30,21 @@
 // linear in the noise box: E = E_W + s E_V, Z_c = Z_W + s Z_V (Minkowski sums of RPI
 // sets are RPI), so the largest noise scale s with non-empty tightened sets is exact
 // for these outer approximations.
+//
+// Gaussian form of the noise part (chance constraints; Farina, Giulioni and Scattolini,
+// J. Process Control 44, 2016; Hewing and Zeilinger, CDC 2018): a bounded box lets the
+// worst case hold a constant bias for ever, which a filter of integrating disturbances
+// reads as a force, so the bounded sets can be far larger than what white noise does.
+// With v white and Gaussian, std V / z (z = noise_bound_sigmas), the joint error
+// s = (e_v, delta_v) driven by v alone is linear and stationary:
+//   s+ = [Se 0; L_x C A_a  A+BK] s + [-L; L_x] v,  Sigma_s = A_s Sigma_s A_s' + G diag(V^2) G'
+// (a discrete Lyapunov equation, nominal loop; like the bounded form it takes the
+// offset-free law's targets to cancel the estimated disturbance in the nominal
+// prediction, x_hat+ = (A+BK) x_hat + L_x nu), and x - x_bar = delta + e_x has the
+// per-row std sigma_x = sqrt(diag(T Sigma_s T')) / z (T = [I_x 0 | I]); u - u_bar = K delta.
+// Tightening by z sigma_x and z sigma_u on top of the bounded sets of w_a (kept worst
+// case) holds each constraint with the probability of z standard deviations of a normal
+// (z = 3: 99.87 % one-sided) at every step in steady state; not a guarantee.
 #pragma once
 
 #include <string>
@@ -73,7 +88,19 @@ struct OutputFeedbackTube {
   Box x_bar, u_bar;            ///< X - (Z_c + E_x), U - K Z_c
   double noise_margin = 0.0;   ///< largest s with non-empty X - (Z_W + E_W,x + s (Z_V + E_V,x)) and U - K(...)
   int j_estimation = 0, j_control = 0;
+  // Gaussian form (see above): z standard deviations of x - x_bar and u - u_bar from
+  // the noise, and the sets tightened by them instead of by Z_V + E_V,x.
+  Eigen::VectorXd x_sigmas_v, u_sigmas_v;  ///< z sigma_x (n), z sigma_u (m)
+  Eigen::VectorXd e_x_sigmas_v;            ///< z sigma of the estimation error e_x alone (n)
+  Eigen::VectorXd delta_sigmas_v;          ///< z sigma of the control error delta alone (n)
+  Eigen::VectorXd e_x_radius_gaussian;     ///< E_W's half-widths on x + e_x_sigmas_v
+  Box x_bar_gaussian, u_bar_gaussian;      ///< X - (Z_W + E_W,x + z sigma_x), U - (K Z_W + z sigma_u)
+  double noise_margin_gaussian = 0.0;      ///< largest noise scale with those non-empty
 };
+
+/// Stationary covariance of s+ = A s + w, cov w = Q (A Schur stable): sum_k A^k Q A^k'
+/// by doubling. Throws std::runtime_error when the sum does not converge.
+Eigen::MatrixXd stationary_covariance(const Eigen::MatrixXd& A, const Eigen::MatrixXd& Q);
 
 /// Vertices: the closed loops A_i + B K (nominal first, n >= p states, the first p
 /// the filter's); W_a: box half-widths of w_a (p + nd + nc); V: noise box half-widths (ny). `lpv_robust` as the state tube's
