@@ -185,6 +185,24 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
 }
 
 
+// README "Noisy sensors": the force envelope. A sustained 4 N force on the load aborts
+// both designs' softened MPC within 0.9 s of its start (its swing transient); with soft
+// constraints off, the LQR fallback rides it out.
+TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
+  const MissionMetrics shipped = fly("sustained_force_4n");
+  EXPECT_TRUE(shipped.diverged);
+  EXPECT_NEAR(static_cast<double>(shipped.periods), 883.0, 25.0);  // 10.6 s
+  const MissionMetrics noisy = fly("sustained_force_4n", test::noisy_artifact());
+  EXPECT_TRUE(noisy.diverged);
+  EXPECT_NEAR(static_cast<double>(noisy.periods), 902.0, 25.0);
+  ControllerArtifact hard = test::artifact();
+  hard.soft_constraints = false;
+  hard.soft_penalty = 0.0;
+  const MissionMetrics lqr = fly("sustained_force_4n", hard);
+  EXPECT_FALSE(lqr.diverged);
+  EXPECT_NEAR(static_cast<double>(lqr.fallback_periods), 5831.0, 0.05 * 5831.0);
+}
+
 // README: masses and inertias +-30 % (config/scenarios/masses_30.yaml), the first three
 // of the ten Monte Carlo draws with each design.
 TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {

@@ -17,8 +17,8 @@ const ControllerArtifact& artifact() {
 }
 
 TEST(Preflight, TheShippedTrajectoriesAreInsideTheDefaultEnvelope) {
-  // Every tiltrotor scenario shipped (the others fly the helix: gusts, noisy_sensors,
-  // sustained_force, masses_30 check the same trajectory, once).
+  // Every tiltrotor scenario shipped (the others fly the helix: the gusts, noise, force
+  // and mass scenarios check the same trajectory, once).
   for (const char* name : {"thesis_helix", "figure_eight", "waypoints", "lissajous_csv"}) {
     const Scenario s = test::shipped_scenario(name);
     const PreflightReport r = check_flight(artifact(), *s.trajectory, s.duration);
@@ -29,7 +29,8 @@ TEST(Preflight, TheShippedTrajectoriesAreInsideTheDefaultEnvelope) {
       EXPECT_LE(r.feedforward_max(i), artifact().feedforward_max(i) + 1e-6) << name;
     }
   }
-  for (const char* name : {"gusts", "noisy_sensors", "sustained_force", "masses_30"}) {
+  for (const char* name : {"gusts", "noisy_sensors", "sustained_force", "masses_30", "noisy_sensors_x2", "gusts_2n",
+                           "sustained_force_4n"}) {
     EXPECT_EQ(test::shipped_scenario(name).trajectory->description(),
               test::shipped_scenario("thesis_helix").trajectory->description()) << name;
   }
