@@ -133,6 +133,9 @@ void run_design(const DesignOptions& o) {
       std::printf("; spectral radius %.6f, robustness margin %.3f\n", t.spectral_radius, t.margin);
     }
   }
+  if (d.kalman && !d.of_computed) {
+    std::printf("output-feedback tube (Mayne et al. 2006): not computed (not applied): %s\n", d.of_message.c_str());
+  }
   if (d.of_computed) {
     const bool gaussian = d.cfg.estimation.output_feedback_noise == "gaussian";
     std::printf("output-feedback tube (Mayne et al. 2006): the sets hold up to %.4g times the configured noise box "

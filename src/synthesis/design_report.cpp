@@ -129,6 +129,8 @@ std::string design_report_json(const ControllerDesign& d) {
                        {"estimation_error_std", vec(sd)},
                        {"noise_tradeoff", trade},
                        {"output_feedback_tube", {{"applied", d.output_feedback},
+                                                 {"computed", d.of_computed},
+                                                 {"not_computed_because", d.of_message},
                                                  {"noise", d.cfg.estimation.output_feedback_noise},
                                                  {"noise_margin", d.of_computed ? d.of.noise_margin : 0.0},
                                                  {"estimation_error_half_widths", d.of_computed ? vec(d.of.e_x_radius.cwiseQuotient(d.em.N_x)) : nlohmann::json()},

@@ -66,6 +66,59 @@ TEST(Design, NumericalFailuresNameTheConfigSectionTheyCameFrom) {
   }
 }
 
+/// The second system with a Kalman filter (the output-feedback tube's tests): the
+/// force's process noise `force` sets how fast the filter's force estimate moves.
+Config mass_spring_with_filter(double force) {
+  const std::string path = test::source_dir() + "/config/mass_spring.yaml";
+  Config c = load_config_from_string(read_config_file(path, "configuration"), path);
+  EstimationSettings& e = c.estimation;
+  e.observer = "kalman";
+  e.noise = {0.001, 0.001, 0.01, 0.01};  // position, angle, velocity, angular rate
+  e.process_force = force;
+  e.process_residual = 1e-9;
+  return c;
+}
+
+TEST(Design, TheGaussianOutputFeedbackTubeTightensByTheNoisesStandardDeviations) {
+  Config c = mass_spring_with_filter(0.02);
+  const ControllerDesign plain = design_controller(c, "");
+  ASSERT_TRUE(plain.of_computed) << plain.of_message;
+  EXPECT_FALSE(plain.output_feedback);
+  c.estimation.output_feedback_tube = true;
+  c.estimation.output_feedback_noise = "gaussian";
+  const ControllerDesign d = design_controller(c, "");
+  ASSERT_TRUE(d.output_feedback);
+  // X_bar = X - (Z_W + E_W,x + z sigma_x), each state's half-width, written out here.
+  const OutputFeedbackTube& t = d.of;
+  for (Eigen::Index i = 0; i < d.X.dim(); ++i) {
+    const double expected = d.X.half_width()(i) - t.Z_W.radius()(i) - (i < d.kf.p ? t.E_W.radius()(i) : 0.0) - t.x_sigmas_v(i);
+    EXPECT_NEAR(d.x_bar.half_width()(i), expected, 1e-12) << i;
+  }
+  EXPECT_LT(d.x_bar.half_width()(0), plain.x_bar.half_width()(0));
+  EXPECT_GT(t.noise_margin_gaussian, 1.0);
+  const ControllerArtifact a = make_artifact(d);
+  EXPECT_EQ(a.noise_margin, t.noise_margin_gaussian);
+  EXPECT_GT(a.estimation_error_radius(0), 0.0);
+}
+
+TEST(Design, AnOutputFeedbackTubeThatCannotBeComputedIsReportedUnlessApplied) {
+  // A force estimate that hardly moves: the estimation loop's spectral radius within
+  // 1e-6 of 1, too slow for the RPI series.
+  Config c = mass_spring_with_filter(1e-9);
+  const ControllerDesign d = design_controller(c, "");
+  EXPECT_FALSE(d.of_computed);
+  EXPECT_NE(d.of_message.find("estimation.output_feedback_tube"), std::string::npos) << d.of_message;
+  const nlohmann::json j = nlohmann::json::parse(design_report_json(d));
+  EXPECT_FALSE(j["estimation"]["output_feedback_tube"]["computed"].get<bool>());
+  c.estimation.output_feedback_tube = true;
+  try {
+    design_controller(c, "");
+    FAIL() << "an output-feedback tube that could not be computed was applied";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("estimation.output_feedback_tube"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Design, SampledUncertaintyIsReportedAsSuch) {
   Config c = test::quick_config();
   c.synthesis.w_source = "sampled";

@@ -106,6 +106,7 @@ struct ControllerDesign {
   std::vector<NoiseTradeoff> noise_tradeoff;
   bool output_feedback = false;  ///< the output-feedback tube is applied
   bool of_computed = false;      ///< ... and computed (always with the filter, for the report)
+  std::string of_message;        ///< why it could not be computed (not applied: reported only)
   OutputFeedbackTube of;
   Box x_bar_state_feedback, u_bar_state_feedback;  ///< the state tube's sets, for the report
 
