@@ -3,6 +3,8 @@
 // state-constraint violations; the gusts and the noisy sensors, which exceed what the
 // shipped controller holds (issue "noise and gusts"), fly with their violations
 // counted and reported. The short scenario checks: test_scenario_checks.cpp.
+#include <array>
+
 #include <gtest/gtest.h>
 
 #include "fly_scenario.hpp"
@@ -177,6 +179,20 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   EXPECT_NEAR(loud.rmse[1], 0.0353, 0.02 * 0.0353);
   EXPECT_NEAR(loud.rmse[2], 0.0113, 0.02 * 0.0113);
   expect_softened_flight(fly("gusts_2n", a), 1405.0, 1480.0);
+  // Three and four times the noise (the twice-noise scenario's, scaled): the violations
+  // grow (servo rates), the flight goes on to the end without a fallback.
+  const std::array<std::array<double, 3>, 2> louder = {{{1.5, 200.0, 1.77}, {2.0, 724.0, 2.37}}};
+  for (const auto& [scale, violations, peak] : louder) {
+    Scenario s = test::shipped_scenario("noisy_sensors_x2");
+    for (double& w : s.noise.white) w *= scale;
+    const MissionMetrics m = run_mission(a, s, MissionOptions{});
+    std::printf("%g times the noise: violations %ld, peak %.2f\n", 2.0 * scale, m.state_constraint_violations,
+                m.violation_max_ratio);
+    EXPECT_FALSE(m.diverged) << scale;
+    EXPECT_EQ(m.fallback_periods, 0) << scale;
+    EXPECT_NEAR(static_cast<double>(m.state_constraint_violations), violations, 0.1 * violations) << scale;
+    EXPECT_NEAR(m.violation_max_ratio, peak, 0.05 * peak) << scale;
+  }
   // The shipped design (residual observer): the doubled noise aborts the flight at once.
   const MissionMetrics raw = fly("noisy_sensors_x2");
   EXPECT_TRUE(raw.diverged);
