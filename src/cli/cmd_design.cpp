@@ -137,12 +137,11 @@ void run_design(const DesignOptions& o) {
     std::printf("output-feedback tube (Mayne et al. 2006): not computed (not applied): %s\n", d.of_message.c_str());
   }
   if (d.of_computed) {
-    const bool gaussian = d.cfg.estimation.output_feedback_noise == "gaussian";
     std::printf("output-feedback tube (Mayne et al. 2006): the sets hold up to %.4g times the configured noise box "
                 "(bounded noise), %.4g times its standard deviations (Gaussian noise, chance constraints at %g sigma)%s\n",
                 d.of.noise_margin, d.of.noise_margin_gaussian, d.cfg.estimation.noise_bound_sigmas,
                 !d.output_feedback ? "; not applied: estimation.output_feedback_tube is false"
-                : gaussian         ? "; the Gaussian form applied"
+                : d.cfg.estimation.gaussian_noise() ? "; the Gaussian form applied"
                                    : "; the bounded form applied");
   }
   if (a.soft_constraints) {

@@ -254,7 +254,7 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
   }
   a.estimation_error_radius = Eigen::VectorXd::Zero(a.n);
   // The applied form's figures (the bounded form's when none is applied).
-  const bool gaussian = c.estimation.output_feedback_noise == "gaussian";
+  const bool gaussian = c.estimation.gaussian_noise();
   if (d.of_computed) a.noise_margin = gaussian ? d.of.noise_margin_gaussian : d.of.noise_margin;
   if (d.output_feedback) a.estimation_error_radius = gaussian ? d.of.e_x_radius_gaussian : d.of.e_x_radius;
   a.soft_constraints = c.soft_constraints.enabled;

@@ -474,9 +474,9 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
         d.of_message = ex.what();
       }
     }
-    if (d.of_computed) {
+    if (d.of_computed) {  // the configured form applied, or an error when its sets are empty
       const EstimationSettings& e = cfg.estimation;
-      const bool gaussian = e.output_feedback_noise == "gaussian";
+      const bool gaussian = e.gaussian_noise();
       const std::string msg = gaussian ? empty_message(d, d.of.x_bar_gaussian, d.of.u_bar_gaussian)
                                        : empty_message(d, d.of.x_bar, d.of.u_bar);
       if (e.output_feedback_tube && !msg.empty()) {
@@ -490,9 +490,8 @@ ControllerDesign design_controller(const Config& cfg, const std::string& config_
       if (e.output_feedback_tube) {
         d.output_feedback = true;
         if (gaussian) {
-          const Zonotope delta_box(Eigen::VectorXd::Zero(d.of.delta_sigmas_v.size()),
-                                   Eigen::MatrixXd(d.of.delta_sigmas_v.asDiagonal()));
-          d.tube.Z = d.of.Z_W.plus(delta_box);
+          d.tube.Z = d.of.Z_W.plus(Zonotope(Eigen::VectorXd::Zero(d.of.delta_sigmas_v.size()),
+                                            Eigen::MatrixXd(d.of.delta_sigmas_v.asDiagonal())));
           d.x_bar = d.of.x_bar_gaussian;
           d.u_bar = d.of.u_bar_gaussian;
         } else {

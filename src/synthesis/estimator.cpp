@@ -163,8 +163,9 @@ OutputFeedbackTube output_feedback_tube(const KalmanDesign& k, const std::vector
   const Eigen::MatrixXd Sd = Sigma.bottomRightCorner(n, n);
   t.delta_sigmas_v = Sd.diagonal().cwiseMax(0.0).cwiseSqrt();
   t.u_sigmas_v = (K * Sd * K.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
-  t.x_bar_gaussian = X.minus(Zonotope(Eigen::VectorXd::Zero(n), Eigen::MatrixXd((hx_w + t.x_sigmas_v).asDiagonal())));
-  t.u_bar_gaussian = U.minus(Zonotope(Eigen::VectorXd::Zero(K.rows()), Eigen::MatrixXd((hu_w + t.u_sigmas_v).asDiagonal())));
+  const Eigen::VectorXd hx_g = hx_w + t.x_sigmas_v, hu_g = hu_w + t.u_sigmas_v;  // each box shrinks by these
+  t.x_bar_gaussian = Box(X.lo + hx_g, X.hi - hx_g);
+  t.u_bar_gaussian = Box(U.lo + hu_g, U.hi - hu_g);
   s = std::numeric_limits<double>::infinity();
   limit(X.half_width(), hx_w, t.x_sigmas_v);
   limit(U.half_width(), hu_w, t.u_sigmas_v);

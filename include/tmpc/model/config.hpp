@@ -135,6 +135,7 @@ struct EstimationSettings {
   /// noise_bound_sigmas standard deviations, Mayne et al. 2006) or "gaussian" (white
   /// Gaussian noise: noise_bound_sigmas standard deviations of the errors it causes).
   std::string output_feedback_noise = "bounded";
+  bool gaussian_noise() const { return output_feedback_noise == "gaussian"; }
   double noise_bound_sigmas = 3.0;       ///< the tube's noise box: this many standard deviations
   double force_rate_bound = 0.02;        ///< the tube's bound on the force's change per step, N
   double residual_rate_bound = 0.0;      ///< the tube's bound on the residuals' change per step (normalized)
