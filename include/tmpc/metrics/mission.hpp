@@ -4,7 +4,8 @@
 // the thesis' metrics: RMSE per measured state, total control variation per input,
 // solve-time statistics, fallbacks, clipping, tube exits (in total and per window; a
 // window starts at each of the scenario's disturbance events) and state-constraint
-// violations of the true state (not the noisy measurement).
+// violations of the true state (not the noisy measurement; the integral rows, which
+// exist only in the controller, are its own integrators).
 #pragma once
 
 #include <string>
