@@ -163,6 +163,24 @@ TEST(Scenarios, TheNoisySensorDesignFliesOtherTracksAndSeedsThroughTheNoise) {
   }
 }
 
+// README "Noisy sensors": without velocity sensors (config/tiltrotor_noisy_no_velocity.yaml:
+// positions, angles and rates measured, the Kalman filter estimating the 3 linear
+// velocities) the noisy-sensor design flies the noise without a violation.
+TEST(Scenarios, WithoutVelocitySensorsTheFilterEstimatesThemAndTheNoiseIsFlown) {
+  const ControllerArtifact a = test::quick_shipped_artifact("tiltrotor_noisy_no_velocity", "noisy-no-velocity");
+  ASSERT_EQ(a.estimator, "kalman");
+  EXPECT_EQ(a.estimator_rows.size(), 17u);  // 20 physical states less the 3 linear velocities
+  const MissionMetrics noisy = fly("noisy_sensors", a);
+  EXPECT_FALSE(noisy.diverged);
+  EXPECT_EQ(noisy.state_constraint_violations, 0);
+  EXPECT_EQ(noisy.fallback_periods, 0);
+  expect_rmse(noisy, 0.0355, 0.0291, 0.0148);
+  const MissionMetrics quiet = fly("thesis_helix", a);
+  EXPECT_EQ(quiet.state_constraint_violations, 0);
+  EXPECT_EQ(quiet.fallback_periods, 0);
+  expect_rmse(quiet, 0.0300, 0.0282, 0.0149);
+}
+
 // README "Scenarios" (config/scenarios/biased_sensors.yaml): a constant sensor bias (2 cm
 // on positions, 0.5 degree on angles) cannot be seen by any law: the controller holds
 // the measured state on the reference, so the true error settles at minus the bias.
