@@ -1,6 +1,6 @@
 // tmpc simulate --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--plant el|mujoco]
 //   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit]
-//   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman] --out DIR
+//   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman|switched] --out DIR
 // A scenario flown in-process on a virtual clock: telemetry.csv and metrics.json. The
 // plant is the artifact's vehicle (or --config's: a plant other than the one designed
 // for), scaled as the scenario says; the trajectory is checked against the envelope
@@ -55,7 +55,14 @@ void print_metrics(const MissionMetrics& r) {
     std::printf("  softened QP (hard QP infeasible) in %ld periods; largest slack %.4g in %s\n", r.softened_periods,
                 r.slack_max, r.slack_worst_state.c_str());
   }
-  if (r.offset_free) std::printf("  observer: %s\n", r.estimator.c_str());
+  if (r.offset_free) {
+    std::printf("  observer: %s", r.estimator.c_str());
+    if (r.estimator == "switched") {
+      std::printf(" (the filter in %ld of %ld periods, %ld switches, noise level up to %.3g of the design's)",
+                  r.filtered_periods, r.periods, r.observer_switches, r.noise_level_max);
+    }
+    std::printf("\n");
+  }
   if (r.tube_exits > 0) {
     std::printf("  tube exits per window:");
     for (std::size_t w = 0; w < r.tube_exits_per_step.size(); ++w) {
@@ -159,8 +166,8 @@ void register_simulate(CLI::App& app) {
   sub->add_flag("--reinit", o->reinit, "re-initialise the nominal state to the measured error when admissible");
   sub->add_option("--tube-law", o->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
-  sub->add_option("--observer", o->observer, "offset-free observer: residual or kalman (default: the artifact's)")
-      ->check(CLI::IsMember({"residual", "kalman"}));
+  sub->add_option("--observer", o->observer, "offset-free observer: residual, kalman or switched (default: the artifact's)")
+      ->check(CLI::IsMember({"residual", "kalman", "switched"}));
   sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));
   sub->add_option("--out", o->out, "output directory");

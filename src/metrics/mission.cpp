@@ -101,11 +101,12 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     for (int i = 0; i < p; ++i) csv << ",r_" << a.state_names[static_cast<std::size_t>(i)];
     for (const std::string& n : a.input_names) csv << ",u_" << n;
     for (const std::string& n : a.input_names) csv << ",ubar_" << n;
-    csv << ",status,iterations,solve_us,fallback,clipped,in_tube,in_state_box,tube_ratio,tube_worst,softened,slack_max";
+    csv << ",status,iterations,solve_us,fallback,clipped,in_tube,in_state_box,tube_ratio,tube_worst,softened,slack_max,filtered,noise_level";
     for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, a.D.cols()); ++i) csv << ",dhat_" << "xyz"[i];
     csv << "\n";
   }
   const double box_limit = 10.0;
+  bool filtered_before = false;
   for (long k = 0; k < K; ++k) {
     const double t = static_cast<double>(k) * T;
     if (!reference->at(t, x_r, u_r)) {
@@ -155,6 +156,10 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
         mm.violation_worst_state = a.state_names[static_cast<std::size_t>(vw)];
       }
     }
+    mm.filtered_periods += s.filtered;
+    mm.observer_switches += k > 0 && s.filtered != filtered_before;
+    filtered_before = s.filtered;
+    mm.noise_level_max = std::max(mm.noise_level_max, s.noise_level);
     if (s.softened) {
       ++mm.softened_periods;
       if (s.slack_max > mm.slack_max) {
@@ -179,7 +184,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
       for (int i = 0; i < m; ++i) csv << "," << s.u_bar(i);
       csv << "," << to_string(s.status) << "," << s.iterations << "," << s.solve_us << "," << s.fallback << ","
           << s.clipped << "," << s.in_tube << "," << a.X.contains(a.N_x.cwiseProduct(judged)) << "," << s.tube_ratio
-          << "," << s.tube_worst << "," << s.softened << "," << s.slack_max;
+          << "," << s.tube_worst << "," << s.softened << "," << s.slack_max << "," << s.filtered << "," << s.noise_level;
       for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, s.d_hat.size()); ++i) csv << "," << s.d_hat(i);
       csv << "\n";
     }
@@ -232,6 +237,7 @@ std::string metrics_json(const MissionMetrics& m) {
   j["violation"] = {{"max_ratio", m.violation_max_ratio}, {"worst_state", m.violation_worst_state}};
   j["softened"] = {{"periods", m.softened_periods}, {"slack_max", m.slack_max}, {"worst_state", m.slack_worst_state}};
   j["estimator"] = m.estimator;
+  j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;

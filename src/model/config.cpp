@@ -306,9 +306,19 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     if (s.has("noise_bound_sigmas")) e.noise_bound_sigmas = s.number_in("noise_bound_sigmas", 0.5, 10.0);
     if (s.has("force_rate_bound")) e.force_rate_bound = s.number_in("force_rate_bound", 0.0, 1e3);
     if (s.has("residual_rate_bound")) e.residual_rate_bound = s.number_in("residual_rate_bound", 0.0, 1.0);
+    if (s.has("noise_monitor")) {
+      Section m = s.section("noise_monitor");
+      e.monitor_residual_below = m.number_in("residual_below", 1e-6, 1.0);
+      e.monitor_filter_above = m.number_in("filter_above", e.monitor_residual_below, 1.0);
+      if (m.has("window")) e.monitor_window_s = m.number_in("window", 0.01, 60.0);
+      m.finish();
+    }
     s.finish();
     if (e.observer == "kalman" && !c.tube_law.offset_free) {
       s.fail(s.key("observer"), "the Kalman filter estimates the offset-free law's disturbance: needs tube_law.offset_free: true");
+    }
+    if (e.observer != "kalman" && e.monitor_residual_below > 0.0) {
+      s.fail(s.key("noise_monitor"), "switches between the Kalman filter and the residual observer: needs observer: kalman");
     }
   }
 

@@ -194,6 +194,8 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       st.softened_periods += s.softened;
       rec.softened = s.softened;
       rec.slack_max = s.slack_max;
+      rec.filtered = s.filtered;
+      rec.noise_level = s.noise_level;
       for (int i = 0; i < m; ++i) cf.u[static_cast<std::size_t>(i)] = s.u(i);
       cf.flags = static_cast<std::uint8_t>((s.fallback ? io::ControlFrame::kFallback : 0) |
                                            (s.clipped ? io::ControlFrame::kClipped : 0));

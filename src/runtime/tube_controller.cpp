@@ -1,5 +1,6 @@
 #include "tmpc/runtime/tube_controller.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -10,8 +11,8 @@ void TubeControllerOptions::validate() const {
   if (!(observer_gain > 0.0 && observer_gain <= 1.0)) {
     throw std::invalid_argument("tube controller: observer_gain must be in (0, 1], got " + std::to_string(observer_gain));
   }
-  if (observer != "residual" && observer != "kalman") {
-    throw std::invalid_argument("tube controller: observer must be residual or kalman, got '" + observer + "'");
+  if (observer != "residual" && observer != "kalman" && observer != "switched") {
+    throw std::invalid_argument("tube controller: observer must be residual, kalman or switched, got '" + observer + "'");
   }
 }
 
@@ -20,15 +21,18 @@ TubeControllerOptions tube_law_options(const ControllerArtifact& a, const std::s
   TubeControllerOptions o;
   o.offset_free = a.tube_law.offset_free;
   o.observer_gain = a.tube_law.observer_gain;
-  o.observer = a.estimator;
-  if (observer == "residual" || observer == "kalman") {
+  o.observer = a.switched_observer() ? "switched" : a.estimator;
+  if (observer == "residual" || observer == "kalman" || observer == "switched") {
     o.observer = observer;
   } else if (!observer.empty()) {
-    throw std::invalid_argument("observer '" + observer + "' (expected residual or kalman)");
+    throw std::invalid_argument("observer '" + observer + "' (expected residual, kalman or switched)");
   }
-  if (o.observer == "kalman" && a.estimator != "kalman") {
-    throw std::invalid_argument("observer kalman: the artifact has no Kalman filter (its config's estimation.observer is " +
+  if (o.observer != "residual" && a.estimator != "kalman") {
+    throw std::invalid_argument("observer " + o.observer + ": the artifact has no Kalman filter (its config's estimation.observer is " +
                                 a.estimator + ")");
+  }
+  if (o.observer == "switched" && !a.switched_observer()) {
+    throw std::invalid_argument("observer switched: the artifact has no noise monitor (its config's estimation.noise_monitor)");
   }
   if (law == "mayne") {
     o.offset_free = false;
@@ -49,7 +53,8 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
   x_bar_ = x_n_ = e_ = dev_ = next_ = x_s_ = c_hat_ = x_prev_ = resid_ = Eigen::VectorXd::Zero(n);
   u_s_ = u_prev_n_ = u_n_ = ub_ = u_raw_ = v_prev_ = Eigen::VectorXd::Zero(m);
   rate_ = a.rate_weighted();
-  d_hat_ = d_raw_ = Eigen::VectorXd::Zero(nd);
+  d_hat_ = d_raw_ = d_res_ = d_kf_ = Eigen::VectorXd::Zero(nd);
+  c_res_ = c_kf_ = y_ = Eigen::VectorXd::Zero(n);
   z_half_ = a.Z.radius();
   out_.x_bar = Eigen::VectorXd::Zero(n);
   out_.u = out_.u_bar = Eigen::VectorXd::Zero(m);
@@ -67,8 +72,9 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
     }
     D_pinv_ = disturbance_pseudo_inverse(a.D, rows);
     theta_ = Eigen::VectorXd::Zero(2 * n + nd + (rate_ ? m : 0));
-    if (opt_.observer == "kalman") {
-      if (a.estimator != "kalman") throw std::invalid_argument("tube controller: observer kalman, but the artifact has no Kalman filter");
+    residual_ = opt_.observer != "kalman";
+    if (opt_.observer != "residual") {
+      if (a.estimator != "kalman") throw std::invalid_argument("tube controller: observer " + opt_.observer + ", but the artifact has no Kalman filter");
       const KalmanDesign k = kalman_model(a);
       kalman_ = true;
       A_a_ = k.A_a;
@@ -79,6 +85,14 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       xi_ = xi_pred_ = Eigen::VectorXd::Zero(k.A_a.rows());
       x_hat_ = Eigen::VectorXd::Zero(n);
       innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
+    }
+    if (opt_.observer == "switched") {
+      if (!a.switched_observer()) throw std::invalid_argument("tube controller: observer switched, but the artifact has no noise monitor");
+      NoiseMonitorSettings s;
+      s.residual_below = a.estimator_monitor(0);
+      s.filter_above = a.estimator_monitor(1);
+      s.window_s = a.estimator_monitor(2);
+      monitor_ = std::make_unique<NoiseMonitor>(a.A, a.B, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
     }
   } else {
     theta_ = Eigen::VectorXd::Zero(n + (rate_ ? m : 0));
@@ -107,6 +121,12 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   }
   d_hat_.setZero();
   c_hat_.setZero();
+  d_res_.setZero();
+  c_res_.setZero();
+  d_kf_.setZero();
+  c_kf_.setZero();
+  if (monitor_) monitor_->reset();
+  w_ = kalman_ ? 1.0 : 0.0;
   u_s_.setZero();
   v_prev_.setZero();
   x_s_.setZero();
@@ -122,6 +142,20 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
 
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, bool consecutive) {
   x_n_ = a_.N_x.cwiseProduct(x_tilde);
+  y_ = x_n_;
+  // The switched observer: which estimate flies this period (the filter's at the start).
+  const bool filter = kalman_ && (!monitor_ || monitor_->update(y_, u_prev_n_, have_prev_ && consecutive));
+  out_.filtered = filter;
+  out_.noise_level = monitor_ ? monitor_->level() : 0.0;
+  if (!kalman_) {
+    w_ = 0.0;
+  } else if (!monitor_ || from_prior_) {
+    w_ = filter ? 1.0 : 0.0;
+  } else {
+    const double step = a_.sample_time / (filter ? kBlendToFilter_s : kBlendToResidual_s);
+    w_ = filter ? std::min(1.0, w_ + step) : std::max(0.0, w_ - step);
+  }
+  out_.filter_weight = w_;
   if (kalman_ && x_n_.allFinite()) {
     const int p = a_.measured, ni = a_.n - p;
     if (have_prev_ && consecutive) {
@@ -129,8 +163,8 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       // the previous estimate (the affine model, as the nominal's), not a measurement.
       next_.noalias() = a_.A * x_hat_;
       next_.noalias() += a_.B * u_prev_n_;
-      next_.noalias() += a_.D * d_hat_;
-      next_ += c_hat_;
+      next_.noalias() += a_.D * d_kf_;
+      next_ += c_kf_;
       x_hat_.tail(ni) = next_.tail(ni);
       xi_pred_.noalias() = A_a_ * xi_;
       xi_pred_.noalias() += B_a_ * u_prev_n_;
@@ -148,33 +182,48 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     xi_ = xi_pred_;
     xi_.noalias() += L_kf_ * innov_;
     x_hat_.head(p) = xi_.head(p);
-    x_n_ = x_hat_;  // the estimate, from here on
-    d_hat_ = xi_.segment(p, d_hat_.size());
-    c_hat_.head(p).noalias() = E_c_ * xi_.tail(E_c_.cols());
-    x_s_.noalias() = Tx_ * d_hat_;
-    u_s_.noalias() = Tu_ * d_hat_;
+    d_kf_ = xi_.segment(p, d_kf_.size());
+    c_kf_.head(p).noalias() = E_c_ * xi_.tail(E_c_.cols());
+    if (w_ >= 1.0) {
+      x_n_ = x_hat_;  // the estimate, from here on
+      d_hat_ = d_kf_;
+      c_hat_ = c_kf_;
+    } else if (w_ <= 0.0) {
+      x_hat_.tail(ni) = y_.tail(ni);  // the integrals a switch to the filter continues from
+    } else {
+      x_n_ = w_ * x_hat_ + (1.0 - w_) * y_;  // blended with the residual observer's below
+    }
     if (from_prior_) {
-      x_bar_ = x_hat_;
+      x_bar_ = x_n_;
       from_prior_ = false;
     }
   }
-  out_.in_state_box = a_.X.contains(x_n_);
-  if (opt_.offset_free && !kalman_) {
-    // Disturbance observer on the one-step residual (a non-finite state is left to the
-    // solver's input check and does not reach the estimate).
-    if (have_prev_ && consecutive && x_n_.allFinite()) {
-      resid_ = x_n_;
+  if (residual_) {
+    // Disturbance observer on the one-step residual of the measurement (a non-finite
+    // state is left to the solver's input check and does not reach the estimate).
+    if (have_prev_ && consecutive && y_.allFinite()) {
+      resid_ = y_;
       resid_.noalias() -= a_.A * x_prev_;
       resid_.noalias() -= a_.B * u_prev_n_;
       d_raw_.noalias() = D_pinv_ * resid_;
-      d_hat_ += opt_.observer_gain * (d_raw_ - d_hat_);
-      resid_.noalias() -= a_.D * d_hat_;  // what the force does not explain
-      c_hat_ += opt_.observer_gain * (resid_ - c_hat_);
+      d_res_ += opt_.observer_gain * (d_raw_ - d_res_);
+      resid_.noalias() -= a_.D * d_res_;  // what the force does not explain
+      c_res_ += opt_.observer_gain * (resid_ - c_res_);
     }
+    x_prev_ = y_;
+    if (w_ <= 0.0) {
+      d_hat_ = d_res_;
+      c_hat_ = c_res_;
+    } else if (w_ < 1.0) {
+      d_hat_ = w_ * d_kf_ + (1.0 - w_) * d_res_;
+      c_hat_ = w_ * c_kf_ + (1.0 - w_) * c_res_;
+    }
+  }
+  if (opt_.offset_free) {
     x_s_.noalias() = Tx_ * d_hat_;
     u_s_.noalias() = Tu_ * d_hat_;
-    x_prev_ = x_n_;
   }
+  out_.in_state_box = a_.X.contains(x_n_);
   if (opt_.reinitialize_nominal && a_.x_bar.contains(x_n_)) x_bar_ = x_n_;
   e_ = x_n_ - x_bar_;
   dev_ = (e_ - a_.Z.c).cwiseAbs();  // distance from Z's centre, per state

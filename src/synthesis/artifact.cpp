@@ -251,6 +251,8 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
     a.estimator_rows = d.kf.measured_rows;
     a.estimator_E_c = d.kf.E_c;
     a.estimator_L = d.kf.L;
+    a.estimator_noise = d.kf.R.diagonal().cwiseSqrt();
+    a.estimator_monitor << c.estimation.monitor_residual_below, c.estimation.monitor_filter_above, c.estimation.monitor_window_s;
   }
   a.estimation_error_radius = Eigen::VectorXd::Zero(a.n);
   // The applied form's figures (the bounded form's when none is applied).
@@ -332,6 +334,8 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
     p.matrix("estimator_rows", indices(a.estimator_rows));
     p.matrix("estimator_E_c", a.estimator_E_c);
     p.matrix("estimator_L", a.estimator_L);
+    p.matrix("estimator_noise", a.estimator_noise);
+    p.matrix("estimator_monitor", a.estimator_monitor);
   }
   p.matrix("noise_margin", scalar(a.noise_margin));
   p.matrix("estimation_error_radius", a.estimation_error_radius);
@@ -440,6 +444,8 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
     }
     a.estimator_E_c = mat("estimator_E_c", p, -1);
     a.estimator_L = mat("estimator_L", p + a.D.cols() + a.estimator_E_c.cols(), static_cast<Eigen::Index>(a.estimator_rows.size()));
+    a.estimator_noise = mat("estimator_noise", static_cast<Eigen::Index>(a.estimator_rows.size()), 1);
+    a.estimator_monitor = mat("estimator_monitor", 3, 1);
   }
   a.noise_margin = mat("noise_margin", 1, 1)(0, 0);
   a.estimation_error_radius = mat("estimation_error_radius", n, 1);

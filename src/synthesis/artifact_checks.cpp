@@ -176,6 +176,16 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
         c.fail("estimator_rows", "are not increasing indices of measured states");
       }
     }
+    if (a.estimator_noise.size() != static_cast<Eigen::Index>(a.estimator_rows.size()) ||
+        !(a.estimator_noise.array() > 0.0).all() || !a.estimator_noise.allFinite()) {
+      c.fail("estimator_noise", "needs a positive finite standard deviation for each of the " +
+                                    std::to_string(a.estimator_rows.size()) + " measured rows");
+    }
+    const Eigen::Vector3d& mo = a.estimator_monitor;
+    if (!mo.allFinite() || mo(0) < 0.0 || mo(1) < mo(0) || !(mo(2) > 0.0 && mo(2) <= 60.0)) {
+      c.fail("estimator_monitor", "is (" + Checker::num(mo(0)) + ", " + Checker::num(mo(1)) + ", " + Checker::num(mo(2)) +
+                                      "): expected 0 <= residual_below <= filter_above and a window in (0, 60] s");
+    }
     const double rho = spectral_radius(estimation_error_map(a));
     if (!(rho < 1.0)) c.fail("estimator_L", "the estimation error does not converge (spectral radius of (I - L C) A_a = " + Checker::num(rho) + ")");
   }
@@ -212,6 +222,11 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   c.near("solver", a.solver.admm_epsilon, cfg.solver.admm_epsilon, 1e-12, "solver.admm_epsilon");
   if (a.link.watchdog_periods != cfg.link.watchdog_periods) c.fail("link_watchdog_periods", "differs from the embedded configuration's link.watchdog_periods");
   if (a.estimator != cfg.estimation.observer) c.fail("estimator", "is '" + a.estimator + "', the embedded configuration's estimation.observer is '" + cfg.estimation.observer + "'");
+  if (a.estimator == "kalman") {
+    c.near("estimator_monitor", a.estimator_monitor(0), cfg.estimation.monitor_residual_below, 1e-12, "estimation.noise_monitor.residual_below");
+    c.near("estimator_monitor", a.estimator_monitor(1), cfg.estimation.monitor_filter_above, 1e-12, "estimation.noise_monitor.filter_above");
+    c.near("estimator_monitor", a.estimator_monitor(2), cfg.estimation.monitor_window_s, 1e-12, "estimation.noise_monitor.window");
+  }
   if (a.soft_constraints != cfg.soft_constraints.enabled) c.fail("soft_constraints", "differs from the embedded configuration's soft_constraints.enabled");
   if (cfg.estimation.output_feedback_tube && !(a.noise_margin >= 1.0 - 1e-9)) {
     c.fail("noise_margin", "is " + Checker::num(a.noise_margin) + ": the configured noise must fit the output-feedback tube (>= 1)");

@@ -296,6 +296,18 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   expect_error(with(est + "  output_feedback_tube: maybe\n"), "estimation.output_feedback_tube", "expected true or false");
   expect_error(with(est + "  output_feedback_noise: loud\n"), "estimation.output_feedback_noise", "unknown value 'loud'");
   EXPECT_EQ(with(est + "  output_feedback_noise: gaussian\n"), "");
+  EXPECT_EQ(with(est + "  noise_monitor: {residual_below: 0.02, filter_above: 0.05}\n"), "");
+  expect_error(with(est + "  noise_monitor: {residual_below: 0.05, filter_above: 0.02}\n"),
+               "estimation.noise_monitor.filter_above", "out of range");
+  expect_error(with(est + "  noise_monitor: {residual_below: 0.02, filter_above: 0.05, window: 0}\n"),
+               "estimation.noise_monitor.window", "out of range");
+  std::string residual_monitor = est + "  noise_monitor: {residual_below: 0.02, filter_above: 0.05}\n";
+  residual_monitor.replace(residual_monitor.find("observer: kalman"), 16, "observer: residual");
+  expect_error(with(residual_monitor), "estimation.noise_monitor", "needs observer: kalman");
+  const Config sw = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor_switched.yaml");
+  EXPECT_EQ(sw.estimation.observer, "kalman");
+  EXPECT_DOUBLE_EQ(sw.estimation.monitor_residual_below, 0.025);
+  EXPECT_DOUBLE_EQ(sw.estimation.monitor_filter_above, 0.05);
   std::string bad = est;
   bad.replace(bad.find("observer: kalman"), 16, "observer: luenberger");
   expect_error(with(bad), "estimation.observer", "unknown value 'luenberger'");

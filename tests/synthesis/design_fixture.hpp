@@ -133,6 +133,14 @@ inline const ControllerArtifact& noisy_artifact() {
   return a;
 }
 
+/// The switched-observer design (config/tiltrotor_switched.yaml: the noisy-sensor design
+/// without input-rate weights, its filter and the residual observer chosen by a noise
+/// monitor).
+inline const ControllerArtifact& switched_artifact() {
+  static const ControllerArtifact a = quick_shipped_artifact("tiltrotor_switched", "switched");
+  return a;
+}
+
 /// The noisy-sensor design with the Gaussian output-feedback tube applied
 /// (config/tiltrotor_noisy_tube.yaml).
 inline const ControllerArtifact& noisy_tube_artifact() {

@@ -25,7 +25,7 @@ struct MissionOptions {
   bool reinitialize_nominal = false;
   std::string tube_law;           ///< "" (the artifact's), "mayne" or "offset-free"
   double observer_gain = 0.0;     ///< > 0: overrides the artifact's
-  std::string observer;           ///< "" (the artifact's), "residual" or "kalman"
+  std::string observer;           ///< "" (the artifact's), "residual", "kalman" or "switched"
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
   const VehicleParams* plant_vehicle = nullptr;  ///< the plant's vehicle (null: the artifact's)
@@ -64,7 +64,10 @@ struct MissionMetrics {
   std::string tube_worst_state;
   std::vector<double> d_hat_final;          ///< offset-free: the disturbance estimate at the end
   std::string solver, plant, scenario;
-  std::string estimator;                    ///< "residual" or "kalman" (offset-free law)
+  std::string estimator;                    ///< "residual", "kalman" or "switched" (offset-free law)
+  long filtered_periods = 0;                ///< periods flown on the Kalman filter's estimate
+  long observer_switches = 0;               ///< switched observer: changes between filter and measurement
+  double noise_level_max = 0.0;             ///< switched observer: the monitor's largest level
   bool offset_free = false;                 ///< the tube law flown
   bool noisy = false;                       ///< the scenario's sensors are noisy
   bool diverged = false;                    ///< the state became non-finite or left 10x the box

@@ -139,6 +139,11 @@ struct EstimationSettings {
   double noise_bound_sigmas = 3.0;       ///< the tube's noise box: this many standard deviations
   double force_rate_bound = 0.02;        ///< the tube's bound on the force's change per step, N
   double residual_rate_bound = 0.0;      ///< the tube's bound on the residuals' change per step (normalized)
+  /// The switched observer (optional `noise_monitor`; runtime/noise_monitor.hpp): the
+  /// residual observer while the measured noise stays below monitor_residual_below times
+  /// the noise the filter is designed for, the filter again above monitor_filter_above;
+  /// averaged over monitor_window_s. 0: the filter always.
+  double monitor_residual_below = 0.0, monitor_filter_above = 0.0, monitor_window_s = 1.0;
 };
 
 /// Soft state constraints (optional section `soft_constraints`; DESIGN.md 5b): an

@@ -24,6 +24,16 @@
 // measured (physical) states; the integral states are the model's integral rows
 // applied to the previous estimate. A state that does not follow the previous one by
 // one period restarts the filter's state part and the integrals from it.
+// The switched observer ("switched": the artifact's filter and its noise monitor,
+// noise_monitor.hpp) runs both every period, each with its own disturbance estimate,
+// and flies the filter's while the monitor reads noise, the residual observer's while
+// it reads clean sensors (the filter at the start). A switch is bumpless: the flown
+// state and disturbance estimates are w (filter's) + (1 - w) (residual observer's),
+// the weight w ramped to its target in kBlendToFilter_s (towards the filter) or
+// kBlendToResidual_s; an abrupt switch jumped the steady-state input by the estimates'
+// difference (a sensor bias reads differently in the two) and kicked a servo rate past
+// its bound. The nominal state is not reset; while the residual observer flies alone,
+// the filter's integral states follow the measured ones.
 // No allocation in step(); it never throws.
 #pragma once
 
@@ -33,6 +43,7 @@
 
 #include <Eigen/Core>
 
+#include "tmpc/runtime/noise_monitor.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -43,15 +54,17 @@ struct TubeControllerOptions {
   bool offset_free = false;           ///< disturbance observer + targets; the solver must be
                                       ///< built from artifact.qp(true)
   double observer_gain = 0.05;        ///< beta in (0, 1]: time constant T / beta (0.24 s)
-  std::string observer = "residual";  ///< offset-free: "residual" or "kalman" (the artifact's filter)
+  std::string observer = "residual";  ///< offset-free: "residual", "kalman" (the artifact's filter) or
+                                      ///< "switched" (both, chosen by the artifact's noise monitor)
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
 
 /// The artifact's tube law (its design config's `tube_law` and `estimation`),
 /// overridden by `law` when not empty: "mayne" or "offset-free"; `observer_gain` > 0
-/// overrides the gain; `observer` ("residual" or "kalman") the observer. Throws
-/// std::invalid_argument for another name or "kalman" without the artifact's filter.
+/// overrides the gain; `observer` ("residual", "kalman" or "switched") the observer.
+/// Throws std::invalid_argument for another name, "kalman" without the artifact's
+/// filter or "switched" without its noise monitor.
 TubeControllerOptions tube_law_options(const ControllerArtifact& a, const std::string& law = "",
                                        double observer_gain = 0.0, const std::string& observer = "");
 
@@ -73,6 +86,9 @@ struct ControlStep {
   bool softened = false;     ///< the hard QP was infeasible: the softened QP's input (controller_solver.hpp)
   double slack_max = 0.0;    ///< its largest slack, physical units of state slack_state
   int slack_state = -1;
+  bool filtered = false;     ///< the Kalman filter's estimate flies (switched observer: the monitor's choice)
+  double filter_weight = 0.0;  ///< the filter's share of the flown estimate (0: the measurement; kalman: 1)
+  double noise_level = 0.0;  ///< switched observer: the monitor's noise level (fraction of the design's)
 };
 
 class TubeController {
@@ -116,9 +132,16 @@ class TubeController {
   Eigen::VectorXd v_prev_;  ///< the previous nominal input (normalized): the rate weight's u(-1)
   Eigen::VectorXd d_hat_, d_raw_;
   Eigen::VectorXd c_hat_;
+  Eigen::VectorXd y_;               ///< this period's measurement (normalized)
+  Eigen::VectorXd d_res_, c_res_;   ///< the residual observer's estimates
+  Eigen::VectorXd d_kf_, c_kf_;     ///< the filter's
+  bool residual_ = false;  ///< the residual observer runs (observer residual or switched)
+  std::unique_ptr<NoiseMonitor> monitor_;  ///< switched observer only
+  double w_ = 1.0;                         ///< the filter's weight in the flown estimate
+  static constexpr double kBlendToFilter_s = 0.1, kBlendToResidual_s = 0.5;
   bool have_prev_ = false;
   // Kalman filter (estimator "kalman").
-  bool kalman_ = false;
+  bool kalman_ = false;  ///< the filter runs (observer kalman or switched)
   bool rate_ = false;  ///< the artifact's QP has an input-rate weight: theta ends with v_prev - u_s
   bool from_prior_ = false;  // the Kalman filter starts from its prior at the next prepare()
   Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;

@@ -38,7 +38,7 @@
 
 namespace tmpc {
 
-constexpr std::uint32_t kArtifactVersion = 5;
+constexpr std::uint32_t kArtifactVersion = 6;
 
 /// Every artifact read or write error (the record container's error type).
 using ArtifactError = RecordFileError;
@@ -89,6 +89,12 @@ struct ControllerArtifact {
   std::string estimator = "residual";
   std::vector<int> estimator_rows;
   Eigen::MatrixXd estimator_E_c, estimator_L;
+  /// The filter's measurement noise (standard deviations on estimator_rows, normalized)
+  /// and its noise monitor (runtime/noise_monitor.hpp): residual_below, filter_above,
+  /// window (s); residual_below 0: the filter always.
+  Eigen::VectorXd estimator_noise;
+  Eigen::Vector3d estimator_monitor = Eigen::Vector3d(0.0, 0.0, 1.0);
+  bool switched_observer() const { return estimator == "kalman" && estimator_monitor(0) > 0.0; }
   double noise_margin = 0.0;                ///< output-feedback tube: noise scale with non-empty sets
   Eigen::VectorXd estimation_error_radius;  ///< output-feedback tube: half-widths of E_x (normalized)
   /// Soft state constraints (config `soft_constraints`): the exact L1 penalty of the

@@ -1,0 +1,76 @@
+// Sensor-noise monitor of the switched observer (tube_controller.hpp; README "Noisy
+// sensors"): which observer the offset-free law should use, read from the measurements.
+//
+// The one-step residual of consecutive measurements y = x + v (normalized, the applied
+// input u): r(k) = y(k) - A y(k-1) - B u(k-1) = (model mismatch) + v(k) - A v(k-1). Its
+// change dr(k) = r(k) - r(k-1) cancels the mismatch's slowly varying part (and any
+// constant sensor bias) and keeps the white noise:
+//   dr(k) = v(k) - (I + A) v(k-1) + A v(k-2),  cov dr = R + (I + A) R (I + A)' + A R A'
+// for v white with covariance R (covariance matching of residuals, Mehra, IEEE TAC 17,
+// 1972). With R the noise the Kalman filter was designed for, the monitor averages
+// dr_i^2 / (cov dr)_ii over each state group's rows (positions, angles, velocities,
+// rates) and over a window (the running mean until the window is full, an exponential
+// average of that length after) and reports the square root of the largest group's
+// average: the noise level as a fraction of the design's (1: the design's, 0: clean).
+// A force step moves r once, which dr sees for one period only.
+//
+// The switch (hysteresis): the filter until a full window reads below `residual_below`,
+// the residual observer from then on, the filter again as soon as the level exceeds
+// `filter_above` (one period of design-level noise does it). No allocation in update().
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "tmpc/model/state_layout.hpp"
+
+namespace tmpc {
+
+struct NoiseMonitorSettings {
+  double residual_below = 0.0;  ///< noise / design noise below which the residual observer flies (0: never)
+  double filter_above = 0.0;    ///< noise / design noise above which the filter flies again (>= residual_below)
+  double window_s = 1.0;        ///< averaging window, s
+  bool enabled() const { return residual_below > 0.0; }
+  /// Throws std::invalid_argument naming the bad field.
+  void validate() const;
+};
+
+class NoiseMonitor {
+ public:
+  /// A, B: the error model (normalized, n states, the first p physical); rows: the
+  /// measured rows the noise is known for, sigma: its standard deviations there
+  /// (normalized), kinds: the n states' kinds; dt: the sample time. Throws
+  /// std::invalid_argument on inconsistent sizes.
+  NoiseMonitor(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const std::vector<int>& rows,
+               const Eigen::VectorXd& sigma, const std::vector<StateKind>& kinds, double dt, NoiseMonitorSettings s);
+
+  /// One period: y the measured state (n entries), u_prev the input applied since the
+  /// previous y; `consecutive` false (a restart, a skipped frame) or a non-finite y
+  /// restarts the difference chain and keeps the averages. Returns use_filter().
+  bool update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_prev, bool consecutive = true);
+  /// The noise level, a fraction of the design's (0 before any difference is seen).
+  double level() const { return level_; }
+  /// Whether the Kalman filter should fly (true at the start: clean sensors must be seen first).
+  bool use_filter() const { return filter_; }
+  /// Differences averaged so far.
+  long samples() const { return samples_; }
+  /// Back to the start: the filter, no samples.
+  void reset();
+
+ private:
+  Eigen::MatrixXd A_, B_;
+  std::vector<int> rows_, group_;
+  Eigen::VectorXd inv_var_;  ///< 1 / (cov dr)_ii on rows_
+  std::vector<int> group_rows_;  ///< rows per group (4 groups)
+  NoiseMonitorSettings s_;
+  long window_ = 1;
+  Eigen::VectorXd y_prev_, r_, r_prev_, u_;
+  double mean_[4] = {0, 0, 0, 0};
+  int chain_ = 0;  ///< consecutive measurements seen (2: r_prev_ valid)
+  long samples_ = 0;
+  double level_ = 0.0;
+  bool filter_ = true;
+};
+
+}  // namespace tmpc

@@ -1,0 +1,116 @@
+#include "tmpc/runtime/noise_monitor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace tmpc {
+
+void NoiseMonitorSettings::validate() const {
+  if (!(residual_below >= 0.0 && std::isfinite(residual_below))) {
+    throw std::invalid_argument("noise monitor: residual_below must be >= 0, got " + std::to_string(residual_below));
+  }
+  if (!(filter_above >= residual_below && std::isfinite(filter_above))) {
+    throw std::invalid_argument("noise monitor: filter_above (" + std::to_string(filter_above) +
+                                ") must be finite and >= residual_below (" + std::to_string(residual_below) + ")");
+  }
+  if (!(window_s > 0.0 && window_s <= 60.0)) {
+    throw std::invalid_argument("noise monitor: window must be in (0, 60] s, got " + std::to_string(window_s));
+  }
+}
+
+NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const std::vector<int>& rows,
+                           const Eigen::VectorXd& sigma, const std::vector<StateKind>& kinds, double dt,
+                           NoiseMonitorSettings s)
+    : A_(A), B_(B), rows_(rows), s_(s) {
+  s_.validate();
+  const Eigen::Index n = A.rows();
+  if (A.cols() != n || B.rows() != n || static_cast<Eigen::Index>(kinds.size()) != n) {
+    throw std::invalid_argument("noise monitor: A is " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()) +
+                                ", B has " + std::to_string(B.rows()) + " rows, " + std::to_string(kinds.size()) +
+                                " state kinds");
+  }
+  if (sigma.size() != static_cast<Eigen::Index>(rows.size()) || rows.empty()) {
+    throw std::invalid_argument("noise monitor: " + std::to_string(sigma.size()) + " noise levels for " +
+                                std::to_string(rows.size()) + " measured rows");
+  }
+  if (!(dt > 0.0)) throw std::invalid_argument("noise monitor: sample time must be positive");
+  // R on the physical states: sigma^2 on the measured rows, 0 elsewhere.
+  Eigen::VectorXd R = Eigen::VectorXd::Zero(n);
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const int r = rows[j];
+    if (r < 0 || r >= n || kinds[static_cast<std::size_t>(r)] == StateKind::Integral) {
+      throw std::invalid_argument("noise monitor: measured row " + std::to_string(r) + " is not a physical state");
+    }
+    if (!(sigma(static_cast<Eigen::Index>(j)) > 0.0)) {
+      throw std::invalid_argument("noise monitor: noise level of row " + std::to_string(r) + " must be positive");
+    }
+    R(r) = sigma(static_cast<Eigen::Index>(j)) * sigma(static_cast<Eigen::Index>(j));
+  }
+  // (cov dr)_ii = R_ii + sum_k (I + A)_ik^2 R_kk + sum_k A_ik^2 R_kk.
+  const Eigen::MatrixXd IA = Eigen::MatrixXd::Identity(n, n) + A;
+  inv_var_.resize(static_cast<Eigen::Index>(rows.size()));
+  group_rows_.assign(4, 0);
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const int r = rows[j];
+    const double v = R(r) + IA.row(r).cwiseAbs2().dot(R) + A.row(r).cwiseAbs2().dot(R);
+    inv_var_(static_cast<Eigen::Index>(j)) = 1.0 / v;
+    const int g = static_cast<int>(group_of(kinds[static_cast<std::size_t>(r)]));
+    group_.push_back(g);
+    ++group_rows_[static_cast<std::size_t>(g)];
+  }
+  window_ = std::max<long>(1, std::lround(s_.window_s / dt));
+  y_prev_ = r_ = r_prev_ = Eigen::VectorXd::Zero(n);
+  u_ = Eigen::VectorXd::Zero(B.cols());
+}
+
+void NoiseMonitor::reset() {
+  chain_ = 0;
+  samples_ = 0;
+  level_ = 0.0;
+  filter_ = true;
+  std::fill(std::begin(mean_), std::end(mean_), 0.0);
+}
+
+bool NoiseMonitor::update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_prev, bool consecutive) {
+  if (!consecutive || !y.allFinite() || !u_prev.allFinite() || y.size() != y_prev_.size() || u_prev.size() != u_.size()) {
+    chain_ = 0;
+    if (y.size() == y_prev_.size() && y.allFinite()) {
+      y_prev_ = y;
+      chain_ = 1;
+    }
+    return filter_;
+  }
+  if (chain_ >= 1) {
+    r_ = y;
+    r_.noalias() -= A_ * y_prev_;
+    r_.noalias() -= B_ * u_prev;
+  }
+  if (chain_ >= 2) {
+    double group_sum[4] = {0, 0, 0, 0};
+    for (std::size_t j = 0; j < rows_.size(); ++j) {
+      const double d = r_(rows_[j]) - r_prev_(rows_[j]);
+      group_sum[group_[j]] += d * d * inv_var_(static_cast<Eigen::Index>(j));
+    }
+    ++samples_;
+    const double lambda = 1.0 / static_cast<double>(std::min(samples_, window_));
+    double worst = 0.0;
+    for (int g = 0; g < 4; ++g) {
+      if (group_rows_[static_cast<std::size_t>(g)] == 0) continue;
+      mean_[g] += lambda * (group_sum[g] / group_rows_[static_cast<std::size_t>(g)] - mean_[g]);
+      worst = std::max(worst, mean_[g]);
+    }
+    level_ = std::sqrt(worst);
+    if (s_.enabled()) {
+      if (filter_ && samples_ >= window_ && level_ < s_.residual_below) filter_ = false;
+      else if (!filter_ && level_ > s_.filter_above) filter_ = true;
+    }
+  }
+  if (chain_ >= 1) r_prev_ = r_;
+  y_prev_ = y;
+  chain_ = std::min(chain_ + 1, 2);
+  return filter_;
+}
+
+}  // namespace tmpc
