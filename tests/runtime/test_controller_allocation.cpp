@@ -13,6 +13,8 @@
 #include "scripted_plant.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
+#include "tmpc/runtime/controller_solver.hpp"
+#include "tmpc/runtime/tube_controller.hpp"
 
 namespace tmpc {
 namespace {
@@ -57,6 +59,39 @@ void expect_no_allocation(const std::string& law) {
 
 TEST(ControllerLoopAllocation, NoAllocationPerPeriodMayneLaw) { expect_no_allocation("mayne"); }
 TEST(ControllerLoopAllocation, NoAllocationPerPeriodOffsetFreeLaw) { expect_no_allocation("offset-free"); }
+
+// The switched observer (both observers, the noise monitor, the blend) allocates nothing
+// per period either: 300 periods of the tube law on the exact linear model, through the
+// hand-over to the residual observer (period 84) and back to the filter when noise
+// appears (period 200).
+TEST(ControllerLoopAllocation, NoAllocationPerPeriodSwitchedObserver) {
+  if (!test::kCountsAllocations) GTEST_SKIP() << "allocations are not counted under the sanitizer";
+  const ControllerArtifact& a = test::switched_artifact();
+  TubeController ctrl(a, make_solver("admm", a.qp(true)), tube_law_options(a));
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n), noise(a.n), u_n(a.m);
+  const Eigen::VectorXd u_r = a.u_eq;
+  for (int i = 0; i < a.n; ++i) noise(i) = i < a.measured ? 0.01 * std::sin(1.7 * i) : 0.0;
+  ctrl.reset(x);
+  bool was_residual = false, back_on_filter = false;
+  g_allocations = 0;
+  Eigen::VectorXd y(a.n);
+  for (int k = 0; k < 300; ++k) {
+    meas = x;
+    if (k >= 200) meas += (k % 2 == 0 ? 1.0 : -1.0) * noise;  // a square-wave "noise" the monitor reads
+    y = meas.cwiseQuotient(a.N_x);
+    t_counting = k >= 10;
+    const ControlStep& s = ctrl.step(y, u_r);
+    t_counting = false;
+    u_n = (s.u - a.u_eq).cwiseProduct(a.N_u);
+    x = a.A * x + a.B * u_n;  // the plant (not counted)
+    was_residual = was_residual || !s.filtered;
+    back_on_filter = was_residual && s.filtered;
+  }
+  t_counting = false;
+  EXPECT_TRUE(was_residual);
+  EXPECT_TRUE(back_on_filter);
+  EXPECT_EQ(g_allocations.load(), 0) << "the switched observer allocated in 290 periods";
+}
 
 }  // namespace
 }  // namespace tmpc
