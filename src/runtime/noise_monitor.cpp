@@ -70,10 +70,12 @@ void NoiseMonitor::reset() {
   samples_ = 0;
   level_ = 0.0;
   filter_ = true;
+  clean_at_start_ = false;
   std::fill(std::begin(mean_), std::end(mean_), 0.0);
 }
 
 bool NoiseMonitor::update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_prev, bool consecutive) {
+  clean_at_start_ = false;
   if (!consecutive || !y.allFinite() || !u_prev.allFinite() || y.size() != y_prev_.size() || u_prev.size() != u_.size()) {
     chain_ = 0;
     if (y.size() == y_prev_.size() && y.allFinite()) {
@@ -103,8 +105,13 @@ bool NoiseMonitor::update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_pre
     }
     level_ = std::sqrt(worst);
     if (s_.enabled()) {
-      if (filter_ && samples_ >= window_ && level_ < s_.residual_below) filter_ = false;
-      else if (!filter_ && level_ > s_.filter_above) filter_ = true;
+      const bool first = samples_ == std::min(kStartSamples, window_);
+      if (filter_ && (first || samples_ >= window_) && level_ < s_.residual_below) {
+        filter_ = false;
+        clean_at_start_ = first;
+      } else if (!filter_ && level_ > s_.filter_above) {
+        filter_ = true;
+      }
     }
   }
   if (chain_ >= 1) r_prev_ = r_;

@@ -151,6 +151,8 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     w_ = 0.0;
   } else if (!monitor_ || from_prior_) {
     w_ = filter ? 1.0 : 0.0;
+  } else if (monitor_->clean_at_start()) {
+    w_ = 0.0;  // clean at the first check: the residual observer's start (below)
   } else {
     const double step = a_.sample_time / (filter ? kBlendToFilter_s : kBlendToResidual_s);
     w_ = filter ? std::min(1.0, w_ + step) : std::max(0.0, w_ - step);
@@ -194,7 +196,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       x_n_ = w_ * x_hat_ + (1.0 - w_) * y_;  // blended with the residual observer's below
     }
     if (from_prior_) {
-      x_bar_ = x_n_;
+      x_bar_ = x_hat_;
       from_prior_ = false;
     }
   }
@@ -224,6 +226,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     u_s_.noalias() = Tu_ * d_hat_;
   }
   out_.in_state_box = a_.X.contains(x_n_);
+  if (monitor_ && monitor_->clean_at_start() && x_n_.allFinite()) x_bar_ = x_n_;  // as reset() without the filter
   if (opt_.reinitialize_nominal && a_.x_bar.contains(x_n_)) x_bar_ = x_n_;
   e_ = x_n_ - x_bar_;
   dev_ = (e_ - a_.Z.c).cwiseAbs();  // distance from Z's centre, per state

@@ -26,12 +26,13 @@ struct Plant {
 };
 
 /// Flies `periods` periods with noise `scale` times the design's from period `onset`
-/// on (none before), and returns the monitor's level and choice after each.
+/// until `stop` (none outside), and returns the monitor's level and choice after each.
 struct Flight {
   std::vector<double> level;
   std::vector<bool> filter;
 };
-Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long onset = 0, unsigned seed = 3) {
+Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long onset = 0, long stop = 1L << 40,
+           unsigned seed = 3) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(4), y(4), u(2);
@@ -40,7 +41,7 @@ Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long o
   u.setZero();
   for (long k = 0; k < periods; ++k) {
     y = x + bias;
-    if (k >= onset) {
+    if (k >= onset && k < stop) {
       for (int i = 0; i < 4; ++i) y(i) += scale * p.sigma(i) * g(rng);
     }
     f.filter.push_back(mon.update(y, u));
@@ -73,15 +74,34 @@ TEST(NoiseMonitor, ReadsTheInjectedNoiseLevelAsAFractionOfTheDesigns) {
   }
 }
 
-TEST(NoiseMonitor, CleanSensorsWithBiasModelErrorAndAForceStepReadNearZeroAndHandOverAfterAWindow) {
+TEST(NoiseMonitor, CleanSensorsWithBiasModelErrorAndAForceStepReadNearZeroAndHandOverAtTheFirstCheck) {
   const Plant p;
   NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
   const Flight f = fly(mon, p, 0.0, 600);
   for (long k = 0; k < 600; ++k) {
-    // The filter until one full window (100 differences, 102 measurements) read clean.
-    EXPECT_EQ(f.filter[static_cast<std::size_t>(k)], k < 101) << k;
+    // The filter until the first check's 5 differences (7 measurements) read clean.
+    EXPECT_EQ(f.filter[static_cast<std::size_t>(k)], k < 6) << k;
     EXPECT_LT(f.level[static_cast<std::size_t>(k)], 0.025) << k;  // the step at 2 s included
   }
+}
+
+TEST(NoiseMonitor, NoisySensorsKeepTheFilterFromTheStartAndAfterTheNoiseItReturnsAfterAWholeWindow) {
+  const Plant p;
+  for (double scale : {1.0, 0.1}) {
+    NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+    const Flight f = fly(mon, p, scale, 400);
+    for (long k = 0; k < 400; ++k) EXPECT_TRUE(f.filter[static_cast<std::size_t>(k)]) << scale << " at " << k;
+  }
+  // Noise that stops: the residual observer again only once the average over the window
+  // (an exponential one after the first window) has fallen below residual_below.
+  NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+  const Flight f = fly(mon, p, 1.0, 1500, 0, 300);
+  long k = 300;
+  while (k < 1500 && f.filter[static_cast<std::size_t>(k)]) ++k;
+  // From a level near 1 the average falls by (1 - 1/100) a period: below 0.025^2 after ~640.
+  EXPECT_GT(k - 300, 500);
+  EXPECT_LT(k - 300, 800);
+  for (; k < 1500; ++k) EXPECT_FALSE(f.filter[static_cast<std::size_t>(k)]) << k;
 }
 
 TEST(NoiseMonitor, NoiseAppearingWhileTheResidualObserverFliesBringsTheFilterBack) {

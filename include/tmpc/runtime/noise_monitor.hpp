@@ -14,9 +14,15 @@
 // average: the noise level as a fraction of the design's (1: the design's, 0: clean).
 // A force step moves r once, which dr sees for one period only.
 //
-// The switch (hysteresis): the filter until a full window reads below `residual_below`,
-// the residual observer from then on, the filter again as soon as the level exceeds
-// `filter_above` (one period of design-level noise does it). No allocation in update().
+// The switch (hysteresis): the filter at the start; the residual observer once a window
+// reads below `residual_below`, the filter again as soon as the level exceeds
+// `filter_above` (one difference of design-level noise does it). The first window is
+// short, kStartSamples differences (the sensors' first check): a start on the filter
+// for a whole window cost a clean start its transient (with masses 30 % off the
+// filter's slower force estimate let the vertical speed out for 2.7 s, 140 periods,
+// where the residual observer holds it), and a start on the residual observer let
+// noisy sensors kick a servo to 5 times its rate bound in the first periods.
+// No allocation in update().
 #pragma once
 
 #include <vector>
@@ -38,6 +44,7 @@ struct NoiseMonitorSettings {
 
 class NoiseMonitor {
  public:
+  static constexpr long kStartSamples = 5;  ///< differences of the first check
   /// A, B: the error model (normalized, n states, the first p physical); rows: the
   /// measured rows the noise is known for, sigma: its standard deviations there
   /// (normalized), kinds: the n states' kinds; dt: the sample time. Throws
@@ -51,8 +58,10 @@ class NoiseMonitor {
   bool update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_prev, bool consecutive = true);
   /// The noise level, a fraction of the design's (0 before any difference is seen).
   double level() const { return level_; }
-  /// Whether the Kalman filter should fly (true at the start: clean sensors must be seen first).
+  /// Whether the Kalman filter should fly (true at the start).
   bool use_filter() const { return filter_; }
+  /// The hand-over to the residual observer happened at the first check, this update.
+  bool clean_at_start() const { return clean_at_start_; }
   /// Differences averaged so far.
   long samples() const { return samples_; }
   /// Back to the start: the filter, no samples.
@@ -71,6 +80,7 @@ class NoiseMonitor {
   long samples_ = 0;
   double level_ = 0.0;
   bool filter_ = true;
+  bool clean_at_start_ = false;
 };
 
 }  // namespace tmpc

@@ -27,7 +27,10 @@
 // The switched observer ("switched": the artifact's filter and its noise monitor,
 // noise_monitor.hpp) runs both every period, each with its own disturbance estimate,
 // and flies the filter's while the monitor reads noise, the residual observer's while
-// it reads clean sensors (the filter at the start). A switch is bumpless: the flown
+// it reads clean sensors (the filter at the start; if the monitor's first check, 72 ms,
+// reads clean sensors, the residual observer takes over at once and the nominal state
+// restarts at the measurement, as reset() does without the filter). Later switches are
+// bumpless: the flown
 // state and disturbance estimates are w (filter's) + (1 - w) (residual observer's),
 // the weight w ramped to its target in kBlendToFilter_s (towards the filter) or
 // kBlendToResidual_s; an abrupt switch jumped the steady-state input by the estimates'
