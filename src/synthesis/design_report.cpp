@@ -142,6 +142,14 @@ std::string design_report_json(const ControllerDesign& d) {
                                                      {"state_error_half_widths", vec(d.of.x_sigmas_v.cwiseQuotient(d.em.N_x))},
                                                      {"input_error_half_widths", vec(d.of.u_sigmas_v.cwiseQuotient(d.em.N_u))}}
                                                                             : nlohmann::json()}}}};
+    const EstimationSettings& e = d.cfg.estimation;
+    // The switched observer (runtime/noise_monitor.hpp): null without a noise monitor.
+    j["estimation"]["noise_monitor"] =
+        e.monitor_residual_below > 0.0
+            ? nlohmann::json{{"residual_below", e.monitor_residual_below},
+                             {"filter_above", e.monitor_filter_above},
+                             {"window_s", e.monitor_window_s}}
+            : nlohmann::json();
   } else {
     j["estimation"] = {{"observer", "residual"}};
   }

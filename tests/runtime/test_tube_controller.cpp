@@ -188,7 +188,10 @@ TEST(TubeController, TheKalmanFilterStartsFromItsPriorNotFromTheFirstNoisyMeasur
 TEST(TubeController, TheSwitchedObserverHandsOverOnCleanSensorsAndBackWhenNoiseAppears) {
   const ControllerArtifact& a = test::switched_artifact();
   const TubeControllerOptions o = tube_law_options(a);
-  ASSERT_EQ(o.observer, "switched");
+  ASSERT_EQ(o.observer, "switched");  // the artifact's default
+  EXPECT_EQ(tube_law_options(a, "", 0.0, "kalman").observer, "kalman");
+  EXPECT_THROW(tube_law_options(test::noisy_artifact(), "", 0.0, "switched"), std::invalid_argument);  // no monitor
+  EXPECT_THROW(tube_law_options(test::quick_artifact(), "", 0.0, "switched"), std::invalid_argument);  // no filter
   TubeController ctrl(a, make_solver("admm", a.qp(true)), o);
   const Eigen::Vector3d d(0.6, -0.4, 0.5);
   const double sigma[4] = {0.005, 0.00524, 0.031, 0.033};

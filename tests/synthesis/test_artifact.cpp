@@ -282,6 +282,23 @@ TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) 
   a.tube_law.offset_free = false;
   EXPECT_NE(check_error(a).find("record 'estimator': kalman estimates the offset-free law's disturbance"), std::string::npos)
       << check_error(a);
+  // The filter's noise levels and the noise monitor (the switched observer).
+  EXPECT_EQ(back.estimator_noise, n.estimator_noise);
+  EXPECT_FALSE(back.switched_observer());  // tiltrotor_noisy.yaml has no noise_monitor
+  EXPECT_NEAR(back.estimator_noise(0), 0.005 * back.N_x(0), 1e-12);  // measurement_noise.position, normalized
+  a = back;
+  a.estimator_noise(2) = -1.0;
+  EXPECT_NE(check_error(a).find("record 'estimator_noise'"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_monitor << 0.05, 0.01, 1.0;
+  EXPECT_NE(check_error(a).find("record 'estimator_monitor'"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_monitor << 0.02, 0.05, 1.0;  // valid, but not what the embedded configuration gives
+  EXPECT_NE(check_error(a).find("estimation.noise_monitor.residual_below"), std::string::npos) << check_error(a);
+  const ControllerArtifact& s = test::switched_artifact();
+  const ControllerArtifact sb = deserialize_artifact(serialize_artifact(s), "s.tmpc");
+  EXPECT_TRUE(sb.switched_observer());
+  EXPECT_EQ(sb.estimator_monitor, Eigen::Vector3d(0.025, 0.05, 1.0));
 }
 
 }  // namespace

@@ -110,6 +110,13 @@ TEST(Design, AnOutputFeedbackTubeThatCannotBeComputedIsReportedUnlessApplied) {
   EXPECT_NE(d.of_message.find("estimation.output_feedback_tube"), std::string::npos) << d.of_message;
   const nlohmann::json j = nlohmann::json::parse(design_report_json(d));
   EXPECT_FALSE(j["estimation"]["output_feedback_tube"]["computed"].get<bool>());
+  EXPECT_TRUE(j["estimation"]["noise_monitor"].is_null());  // no switched observer configured
+  c.estimation.monitor_residual_below = 0.02;
+  c.estimation.monitor_filter_above = 0.04;
+  const nlohmann::json k = nlohmann::json::parse(design_report_json(design_controller(c, "")));
+  EXPECT_EQ(k["estimation"]["noise_monitor"]["residual_below"].get<double>(), 0.02);
+  EXPECT_EQ(k["estimation"]["noise_monitor"]["filter_above"].get<double>(), 0.04);
+  EXPECT_EQ(k["estimation"]["noise_monitor"]["window_s"].get<double>(), 1.0);
   c.estimation.output_feedback_tube = true;
   try {
     design_controller(c, "");
