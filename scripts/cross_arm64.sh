@@ -66,12 +66,13 @@ echo "=== arm64: built for $cpu in $(( $(date +%s) - t0 )) s"
 
 # The host's designs of the test fixtures (tests/synthesis/design_fixture.hpp).
 [ -x build/tests/test_runtime ] || { echo "cross_arm64: run scripts/build.sh first (the host's designs)" >&2; exit 1; }
-build/tests/test_runtime --gtest_filter='TubeController.TheKalmanFilterStartsFromItsPrior*:TubeController.OffsetFreeObserver*' \
+build/tests/test_runtime --gtest_filter='TubeController.TheKalmanFilterStartsFromItsPrior*:TubeController.OffsetFreeObserver*:TubeController.TheSwitchedObserver*' \
   --gtest_brief=1 >/dev/null
 art=build-arm64/artifacts
 mkdir -p "$art"
 cp "$(ls -t build/tests/quick-test_runtime-*.tmpc | head -1)" "$art/quick.tmpc"
 cp "$(ls -t build/tests/noisy-test_runtime-*.tmpc | head -1)" "$art/noisy.tmpc"
+cp "$(ls -t build/tests/switched-test_runtime-*.tmpc | head -1)" "$art/switched.tmpc"
 
 # The executables run on the multiarch arm64 runtime (libc6:arm64 and friends in
 # /lib/aarch64-linux-gnu, as on a board), not on the cross toolchain's own copy in
