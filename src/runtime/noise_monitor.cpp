@@ -20,16 +20,14 @@ void NoiseMonitorSettings::validate() const {
   }
 }
 
-NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const std::vector<int>& rows,
-                           const Eigen::VectorXd& sigma, const std::vector<StateKind>& kinds, double dt,
-                           NoiseMonitorSettings s)
-    : A_(A), B_(B), rows_(rows), s_(s) {
+NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const std::vector<int>& rows, const Eigen::VectorXd& sigma,
+                           const std::vector<StateKind>& kinds, double dt, NoiseMonitorSettings s)
+    : rows_(rows), s_(s) {
   s_.validate();
   const Eigen::Index n = A.rows();
-  if (A.cols() != n || B.rows() != n || static_cast<Eigen::Index>(kinds.size()) != n) {
+  if (A.cols() != n || static_cast<Eigen::Index>(kinds.size()) != n) {
     throw std::invalid_argument("noise monitor: A is " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()) +
-                                ", B has " + std::to_string(B.rows()) + " rows, " + std::to_string(kinds.size()) +
-                                " state kinds");
+                                " for " + std::to_string(kinds.size()) + " state kinds");
   }
   if (sigma.size() != static_cast<Eigen::Index>(rows.size()) || rows.empty()) {
     throw std::invalid_argument("noise monitor: " + std::to_string(sigma.size()) + " noise levels for " +
@@ -61,8 +59,7 @@ NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, c
     ++group_rows_[static_cast<std::size_t>(g)];
   }
   window_ = std::max<long>(1, std::lround(s_.window_s / dt));
-  y_prev_ = r_ = r_prev_ = Eigen::VectorXd::Zero(n);
-  u_ = Eigen::VectorXd::Zero(B.cols());
+  r_prev_ = Eigen::VectorXd::Zero(n);
 }
 
 void NoiseMonitor::reset() {
@@ -74,25 +71,16 @@ void NoiseMonitor::reset() {
   std::fill(std::begin(mean_), std::end(mean_), 0.0);
 }
 
-bool NoiseMonitor::update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_prev, bool consecutive) {
+bool NoiseMonitor::update(const Eigen::VectorXd& r, bool valid) {
   clean_at_start_ = false;
-  if (!consecutive || !y.allFinite() || !u_prev.allFinite() || y.size() != y_prev_.size() || u_prev.size() != u_.size()) {
+  if (!valid || r.size() != r_prev_.size() || !r.allFinite()) {
     chain_ = 0;
-    if (y.size() == y_prev_.size() && y.allFinite()) {
-      y_prev_ = y;
-      chain_ = 1;
-    }
     return filter_;
   }
   if (chain_ >= 1) {
-    r_ = y;
-    r_.noalias() -= A_ * y_prev_;
-    r_.noalias() -= B_ * u_prev;
-  }
-  if (chain_ >= 2) {
     double group_sum[4] = {0, 0, 0, 0};
     for (std::size_t j = 0; j < rows_.size(); ++j) {
-      const double d = r_(rows_[j]) - r_prev_(rows_[j]);
+      const double d = r(rows_[j]) - r_prev_(rows_[j]);
       group_sum[group_[j]] += d * d * inv_var_(static_cast<Eigen::Index>(j));
     }
     ++samples_;
@@ -114,9 +102,8 @@ bool NoiseMonitor::update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_pre
       }
     }
   }
-  if (chain_ >= 1) r_prev_ = r_;
-  y_prev_ = y;
-  chain_ = std::min(chain_ + 1, 2);
+  r_prev_ = r;
+  chain_ = 1;
   return filter_;
 }
 

@@ -92,7 +92,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       s.residual_below = a.estimator_monitor(0);
       s.filter_above = a.estimator_monitor(1);
       s.window_s = a.estimator_monitor(2);
-      monitor_ = std::make_unique<NoiseMonitor>(a.A, a.B, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
+      monitor_ = std::make_unique<NoiseMonitor>(a.A, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
     }
   } else {
     theta_ = Eigen::VectorXd::Zero(n + (rate_ ? m : 0));
@@ -143,8 +143,17 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, bool consecutive) {
   x_n_ = a_.N_x.cwiseProduct(x_tilde);
   y_ = x_n_;
+  // The one-step residual of the measurement r = y - A y_prev - B u_prev, once: the
+  // residual observer's input and the noise monitor's (a non-finite state is left to
+  // the solver's input check and reaches neither).
+  const bool have_resid = residual_ && have_prev_ && consecutive && y_.allFinite();
+  if (have_resid) {
+    resid_ = y_;
+    resid_.noalias() -= a_.A * x_prev_;
+    resid_.noalias() -= a_.B * u_prev_n_;
+  }
   // The switched observer: which estimate flies this period (the filter's at the start).
-  const bool filter = kalman_ && (!monitor_ || monitor_->update(y_, u_prev_n_, have_prev_ && consecutive));
+  const bool filter = kalman_ && (!monitor_ || monitor_->update(resid_, have_resid));
   out_.filtered = filter;
   out_.noise_level = monitor_ ? monitor_->level() : 0.0;
   if (!kalman_) {
@@ -201,12 +210,8 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     }
   }
   if (residual_) {
-    // Disturbance observer on the one-step residual of the measurement (a non-finite
-    // state is left to the solver's input check and does not reach the estimate).
-    if (have_prev_ && consecutive && y_.allFinite()) {
-      resid_ = y_;
-      resid_.noalias() -= a_.A * x_prev_;
-      resid_.noalias() -= a_.B * u_prev_n_;
+    // Disturbance observer on the one-step residual of the measurement.
+    if (have_resid) {
       d_raw_.noalias() = D_pinv_ * resid_;
       d_res_ += opt_.observer_gain * (d_raw_ - d_res_);
       resid_.noalias() -= a_.D * d_res_;  // what the force does not explain

@@ -35,7 +35,7 @@ Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long o
            unsigned seed = 3) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(4), y(4), u(2);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(4), y(4), y_prev(4), u(2), r(4);
   const Eigen::VectorXd bias = (Eigen::VectorXd(4) << 0.05, -0.03, 0.0, 0.0).finished();
   Flight f;
   u.setZero();
@@ -44,7 +44,10 @@ Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long o
     if (k >= onset && k < stop) {
       for (int i = 0; i < 4; ++i) y(i) += scale * p.sigma(i) * g(rng);
     }
-    f.filter.push_back(mon.update(y, u));
+    // The one-step residual of the measurements (u: the input applied since y_prev).
+    if (k > 0) r = y - p.A * y_prev - p.B * u;
+    f.filter.push_back(mon.update(r, k > 0));
+    y_prev = y;
     f.level.push_back(mon.level());
     const double t = static_cast<double>(k) * kDt;
     u << std::sin(0.7 * t), std::cos(0.3 * t);
@@ -66,7 +69,7 @@ NoiseMonitorSettings settings(double window_s = 1.0) {
 TEST(NoiseMonitor, ReadsTheInjectedNoiseLevelAsAFractionOfTheDesigns) {
   const Plant p;
   for (double scale : {1.0, 0.3, 0.1}) {
-    NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings(5.0));
+    NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings(5.0));
     const Flight f = fly(mon, p, scale, 3000);
     // The largest of two groups' estimates over 500 samples: within 12 % of the truth.
     EXPECT_NEAR(f.level.back(), scale, 0.12 * scale) << "noise " << scale << " of the design's";
@@ -76,7 +79,7 @@ TEST(NoiseMonitor, ReadsTheInjectedNoiseLevelAsAFractionOfTheDesigns) {
 
 TEST(NoiseMonitor, CleanSensorsWithBiasModelErrorAndAForceStepReadNearZeroAndHandOverAtTheFirstCheck) {
   const Plant p;
-  NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+  NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
   const Flight f = fly(mon, p, 0.0, 600);
   for (long k = 0; k < 600; ++k) {
     // The filter until the first check's 5 differences (7 measurements) read clean.
@@ -88,13 +91,13 @@ TEST(NoiseMonitor, CleanSensorsWithBiasModelErrorAndAForceStepReadNearZeroAndHan
 TEST(NoiseMonitor, NoisySensorsKeepTheFilterFromTheStartAndAfterTheNoiseItReturnsAfterAWholeWindow) {
   const Plant p;
   for (double scale : {1.0, 0.1}) {
-    NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+    NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
     const Flight f = fly(mon, p, scale, 400);
     for (long k = 0; k < 400; ++k) EXPECT_TRUE(f.filter[static_cast<std::size_t>(k)]) << scale << " at " << k;
   }
   // Noise that stops: the residual observer again only once the average over the window
   // (an exponential one after the first window) has fallen below residual_below.
-  NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+  NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
   const Flight f = fly(mon, p, 1.0, 1500, 0, 300);
   long k = 300;
   while (k < 1500 && f.filter[static_cast<std::size_t>(k)]) ++k;
@@ -107,7 +110,7 @@ TEST(NoiseMonitor, NoisySensorsKeepTheFilterFromTheStartAndAfterTheNoiseItReturn
 TEST(NoiseMonitor, NoiseAppearingWhileTheResidualObserverFliesBringsTheFilterBack) {
   const Plant p;
   for (const auto& [scale, within] : {std::pair<double, long>{1.0, 3}, {0.2, 40}}) {
-    NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+    NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
     const Flight f = fly(mon, p, scale, 600, 300);
     EXPECT_FALSE(f.filter[299]) << scale;  // clean so far: the residual observer
     long back = -1;
@@ -122,17 +125,17 @@ TEST(NoiseMonitor, NoiseAppearingWhileTheResidualObserverFliesBringsTheFilterBac
 
 TEST(NoiseMonitor, ARestartKeepsTheAverageAndBadInputIsNamed) {
   const Plant p;
-  NoiseMonitor mon(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+  NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
   fly(mon, p, 1.0, 300);
   const double level = mon.level();
   const long samples = mon.samples();
-  Eigen::VectorXd y = Eigen::VectorXd::Constant(4, 100.0), u = Eigen::VectorXd::Zero(2);
-  mon.update(y, u, false);  // a jump after a restart is not a difference
-  mon.update(y, u, true);   // one measurement after it: still no difference
+  Eigen::VectorXd y = Eigen::VectorXd::Constant(4, 100.0);
+  mon.update(y, false);  // a restart: no residual
+  mon.update(y, true);   // one residual after it: still no difference
   EXPECT_EQ(mon.samples(), samples);
   EXPECT_DOUBLE_EQ(mon.level(), level);
   y(0) = std::nan("");
-  mon.update(y, u, true);
+  mon.update(y, true);
   EXPECT_EQ(mon.samples(), samples);
   EXPECT_TRUE(mon.use_filter());
   mon.reset();
@@ -149,13 +152,13 @@ TEST(NoiseMonitor, ARestartKeepsTheAverageAndBadInputIsNamed) {
   };
   NoiseMonitorSettings bad = settings();
   bad.filter_above = 0.01;
-  EXPECT_NE(error([&] { NoiseMonitor(p.A, p.B, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, bad); }).find("filter_above"),
+  EXPECT_NE(error([&] { NoiseMonitor(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, bad); }).find("filter_above"),
             std::string::npos);
-  EXPECT_NE(error([&] { NoiseMonitor(p.A, p.B, {0, 1, 2}, p.sigma, p.kinds, kDt, settings()); }).find("4 noise levels for 3"),
+  EXPECT_NE(error([&] { NoiseMonitor(p.A, {0, 1, 2}, p.sigma, p.kinds, kDt, settings()); }).find("4 noise levels for 3"),
             std::string::npos);
   Eigen::VectorXd zero = p.sigma;
   zero(2) = 0.0;
-  EXPECT_NE(error([&] { NoiseMonitor(p.A, p.B, {0, 1, 2, 3}, zero, p.kinds, kDt, settings()); }).find("row 2 must be positive"),
+  EXPECT_NE(error([&] { NoiseMonitor(p.A, {0, 1, 2, 3}, zero, p.kinds, kDt, settings()); }).find("row 2 must be positive"),
             std::string::npos);
 }
 

@@ -45,17 +45,18 @@ struct NoiseMonitorSettings {
 class NoiseMonitor {
  public:
   static constexpr long kStartSamples = 5;  ///< differences of the first check
-  /// A, B: the error model (normalized, n states, the first p physical); rows: the
+  /// A: the error model (normalized, n states, the first p physical); rows: the
   /// measured rows the noise is known for, sigma: its standard deviations there
   /// (normalized), kinds: the n states' kinds; dt: the sample time. Throws
   /// std::invalid_argument on inconsistent sizes.
-  NoiseMonitor(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const std::vector<int>& rows,
-               const Eigen::VectorXd& sigma, const std::vector<StateKind>& kinds, double dt, NoiseMonitorSettings s);
+  NoiseMonitor(const Eigen::MatrixXd& A, const std::vector<int>& rows, const Eigen::VectorXd& sigma,
+               const std::vector<StateKind>& kinds, double dt, NoiseMonitorSettings s);
 
-  /// One period: y the measured state (n entries), u_prev the input applied since the
-  /// previous y; `consecutive` false (a restart, a skipped frame) or a non-finite y
-  /// restarts the difference chain and keeps the averages. Returns use_filter().
-  bool update(const Eigen::VectorXd& y, const Eigen::VectorXd& u_prev, bool consecutive = true);
+  /// One period: r the one-step residual y(k) - A y(k-1) - B u(k-1) (n entries; the
+  /// residual observer's, tube_controller.hpp), `valid` false where there is none (the
+  /// first period, a restart, a skipped frame): that, or a non-finite r, restarts the
+  /// difference chain and keeps the averages. Returns use_filter().
+  bool update(const Eigen::VectorXd& r, bool valid = true);
   /// The noise level, a fraction of the design's (0 before any difference is seen).
   double level() const { return level_; }
   /// Whether the Kalman filter should fly (true at the start).
@@ -68,15 +69,14 @@ class NoiseMonitor {
   void reset();
 
  private:
-  Eigen::MatrixXd A_, B_;
   std::vector<int> rows_, group_;
   Eigen::VectorXd inv_var_;  ///< 1 / (cov dr)_ii on rows_
   std::vector<int> group_rows_;  ///< rows per group (4 groups)
   NoiseMonitorSettings s_;
   long window_ = 1;
-  Eigen::VectorXd y_prev_, r_, r_prev_, u_;
+  Eigen::VectorXd r_prev_;
   double mean_[4] = {0, 0, 0, 0};
-  int chain_ = 0;  ///< consecutive measurements seen (2: r_prev_ valid)
+  int chain_ = 0;  ///< 1: r_prev_ is the previous period's residual
   long samples_ = 0;
   double level_ = 0.0;
   bool filter_ = true;
