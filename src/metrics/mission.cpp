@@ -75,6 +75,8 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   mm.rmse.assign(static_cast<std::size_t>(p), 0.0);
   mm.max_abs_error.assign(static_cast<std::size_t>(p), 0.0);
   mm.tcv.assign(static_cast<std::size_t>(m), 0.0);
+  mm.box_names = a.state_names;
+  mm.box_peak_ratio.assign(static_cast<std::size_t>(a.n), 0.0);
   const double T = a.sample_time;
   const long K = std::lround(duration / T);
   TrackingError err(kinds, a.integrated), truth(kinds, a.integrated);
@@ -149,6 +151,10 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     const Eigen::VectorXd ratio = a.N_x.cwiseProduct(judged).cwiseAbs();  // X is the unit box
     Eigen::Index vw = 0;
     const double vr = ratio.maxCoeff(&vw);
+    for (Eigen::Index i = 0; i < a.n; ++i) {
+      double& peak = mm.box_peak_ratio[static_cast<std::size_t>(i)];
+      peak = std::max(peak, ratio(i));
+    }
     if (vr > 1.0) {
       ++mm.state_constraint_violations;
       if (vr > mm.violation_max_ratio) {
@@ -235,6 +241,9 @@ std::string metrics_json(const MissionMetrics& m) {
                      {"worst_state", m.tube_worst_state}};
   j["state_constraint_violations"] = m.state_constraint_violations;
   j["violation"] = {{"max_ratio", m.violation_max_ratio}, {"worst_state", m.violation_worst_state}};
+  nlohmann::json peak = nlohmann::json::object();
+  for (std::size_t i = 0; i < m.box_peak_ratio.size(); ++i) peak[name(m.box_names, i, "state")] = m.box_peak_ratio[i];
+  j["box_peak_ratio"] = peak;
   j["softened"] = {{"periods", m.softened_periods}, {"slack_max", m.slack_max}, {"worst_state", m.slack_worst_state}};
   j["estimator"] = m.estimator;
   j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max}};

@@ -48,6 +48,11 @@ struct MissionMetrics {
   /// (above 1: a violation) and the state; 0 and "" without one.
   double violation_max_ratio = 0.0;
   std::string violation_worst_state;
+  /// Per state of the box (all n, the artifact's names in box_names): the largest
+  /// |x_i| / half-width_i over the flight, violations or not (e.g. the servo-rate peak
+  /// as a fraction of its bound).
+  std::vector<std::string> box_names;
+  std::vector<double> box_peak_ratio;
   /// Periods flown with the softened QP (the hard QP infeasible), the largest slack in
   /// physical units and its state.
   long softened_periods = 0;
