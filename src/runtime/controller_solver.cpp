@@ -11,7 +11,8 @@ namespace tmpc {
 namespace {
 
 /// The hard QP first; when it is certified infeasible or fails numerically, the
-/// softened QP (see controller_solver.hpp). Its result has the hard layout (u_hat);
+/// softened QP, and the softened QP again each period until it uses no slack (see
+/// controller_solver.hpp). Its result has the hard layout (u_hat);
 /// the slacks are reported in softened, slack_max and slack_state. No allocation per
 /// solve.
 class SoftRecoverySolver final : public QpSolver {
@@ -23,29 +24,44 @@ class SoftRecoverySolver final : public QpSolver {
     slacks_ = soft_->problem().slacks;
   }
   const SolveResult& solve(const Eigen::VectorXd& x0) override {
-    const SolveResult& h = hard_->solve(x0);
-    // Infeasible, or a numerical failure (e.g. a nearly infeasible QP whose Farkas ray
-    // the active set cannot certify): where the hard QP is feasible the softened one has
-    // its solution (exact penalty), so the second solve loses nothing.
-    if (h.status != SolveStatus::Infeasible && h.status != SolveStatus::NumericalFailure) return h;
+    int h_iterations = 0, h_steps = 0;
+    double h_us = 0.0;
+    if (!stay_soft_) {
+      const SolveResult& h = hard_->solve(x0);
+      // Infeasible, or a numerical failure (e.g. a nearly infeasible QP whose Farkas ray
+      // the active set cannot certify): where the hard QP is feasible the softened one has
+      // its solution (exact penalty), so the second solve loses nothing.
+      if (h.status != SolveStatus::Infeasible && h.status != SolveStatus::NumericalFailure) return h;
+      h_iterations = h.iterations;
+      h_steps = h.active_set_steps;
+      h_us = h.solve_us;
+    }
     const SolveResult& r = soft_->solve(x0);
     res_.status = r.status;
-    res_.iterations = h.iterations + r.iterations;
-    res_.solve_us = h.solve_us + r.solve_us;
+    res_.iterations = h_iterations + r.iterations;
+    res_.solve_us = h_us + r.solve_us;
     res_.primal_residual = r.primal_residual;
     res_.dual_residual = r.dual_residual;
     res_.objective = r.objective;
     res_.restarts = r.restarts;
-    res_.active_set_steps = h.active_set_steps + r.active_set_steps;
+    res_.active_set_steps = h_steps + r.active_set_steps;
     res_.z = r.z.head(res_.z.size());
     res_.y.setZero();  // the hard QP has no multipliers: it is infeasible
     res_.softened = true;
     Eigen::Index worst = 0;
     res_.slack_max = slacks_ > 0 ? r.z.tail(slacks_).maxCoeff(&worst) : 0.0;
     res_.slack_state = static_cast<int>(worst);
+    // Back to the hard QP only once the softened one uses no slack: there its solution is
+    // the hard QP's optimum (a hard-feasible point of the same cost), so the law stays
+    // continuous. Going back as soon as the hard QP is feasible again jumped from the
+    // softened solution to the hard one at its feasibility boundary, where that one is
+    // extreme (the gust flight: thrusts 11 N to 8.7 and 14.4 N in two periods, servo rates
+    // past their bounds; README "Soft state constraints").
+    stay_soft_ = r.status == SolveStatus::Converged && res_.slack_max > kSlackZero;
     return res_;
   }
   void reset() override {
+    stay_soft_ = false;
     hard_->reset();
     soft_->reset();
   }
@@ -54,7 +70,9 @@ class SoftRecoverySolver final : public QpSolver {
   const SolverOptions& options() const override { return hard_->options(); }
 
  private:
+  static constexpr double kSlackZero = 1e-9;  ///< a slack at most this (normalized) is none
   std::unique_ptr<QpSolver> hard_, soft_;
+  bool stay_soft_ = false;
   SolveResult res_;
   int slacks_ = 0;
 };

@@ -19,7 +19,10 @@ namespace tmpc {
 /// ending in the LQR fallback: by `name` when it solves that form (active-set, admm,
 /// reference), else by active-set. Where the hard QP is feasible the softened one has
 /// the same solution, so it is solved only when needed and loses nothing where the
-/// hard solve failed on a feasible QP. Throws std::invalid_argument for an unknown name
+/// hard solve failed on a feasible QP. Once softened, the softened QP flies each period
+/// until its solution uses no slack (then it is the hard QP's optimum): the law stays
+/// continuous where the hard QP becomes feasible again, instead of jumping to the hard
+/// solution at its feasibility boundary. Throws std::invalid_argument for an unknown name
 /// or a bad file.
 std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const ControllerArtifact& a,
                                                  const SolverOptions& options, const std::string& explicit_path,
