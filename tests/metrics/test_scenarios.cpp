@@ -3,6 +3,7 @@
 // state-constraint violations; the gusts and the noisy sensors, which exceed what the
 // shipped controller holds (issue "noise and gusts"), fly with their violations
 // counted and reported. The short scenario checks: test_scenario_checks.cpp.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
@@ -55,13 +56,19 @@ TEST(Scenarios, FigureEightWaypointsAndTheCsvTrackFlyWithTheDefaultArtifact) {
 TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   const MissionMetrics gusts = fly("gusts");
   EXPECT_EQ(gusts.periods, 6667);
-  expect_rmse(gusts, 0.0965, 0.103, 0.0068);
-  EXPECT_NEAR(gusts.violation_max_ratio, 9.35, 0.05 * 9.35);  // a servo rate, in one transient
+  expect_rmse(gusts, 0.0965, 0.1007, 0.0068);
+  // A servo rate, in one transient (9.35 when the recovery went back to the hard QP as
+  // soon as it was feasible: the jump at its feasibility boundary, controller_solver.hpp).
+  EXPECT_NEAR(gusts.violation_max_ratio, 4.70, 0.05 * 4.70);
+  const std::size_t servo = static_cast<std::size_t>(
+      std::find(gusts.box_names.begin(), gusts.box_names.end(), "d_alpha_l") - gusts.box_names.begin());
+  ASSERT_LT(servo, gusts.box_peak_ratio.size());
+  EXPECT_DOUBLE_EQ(gusts.box_peak_ratio[servo], gusts.violation_max_ratio);
   // No LQR takeover (1048 periods before soft constraints were shipped): the infeasible
   // QPs, and the two a numerical failure ended, are flown softened; no solve cycles
   // (a softened QP took 4000 steps when its slack curvature was 1e-8, parametric_qp.hpp).
   std::printf("gusts: softened %ld, largest iteration count %d\n", gusts.softened_periods, gusts.iterations_max);
-  expect_softened_flight(gusts, 761.0, 919.0);
+  expect_softened_flight(gusts, 746.0, 919.0);
   EXPECT_LT(gusts.iterations_max, 200);
   // A sustained 3 N from 10 s (every QP infeasible): the softened MPC flies to the end
   // (the LQR fallback for 5830 periods before soft constraints were shipped).
@@ -193,7 +200,10 @@ TEST(Scenarios, TheSwitchedObserverFliesCleanAndNoisySensorsWithOneController) {
   expect_rmse(clean, 0.0308, 0.0301, 0.0021);
   EXPECT_EQ(clean.filtered_periods, 6);  // the first check: 5 differences of 7 measurements
   EXPECT_EQ(clean.observer_switches, 1);
-  EXPECT_NEAR(clean.noise_level_max, 0.0256, 0.05 * 0.0256);  // the force steps: below 0.05, no switch back
+  // The force steps: a residual jump of one or two periods, which the median drops
+  // (0.0256 without it: a 2 N step would have read twice that, past the 0.05 that
+  // brings the filter back).
+  EXPECT_NEAR(clean.noise_level_max, 0.0029, 0.1 * 0.0029);
 
   const MissionMetrics noisy = fly("noisy_sensors", a);
   std::printf("switched, noisy_sensors: RMSE %.4f %.4f %.4f, filter %ld periods\n", noisy.rmse[0], noisy.rmse[1],
@@ -310,7 +320,7 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   EXPECT_NEAR(loud.rmse[0], 0.0464, 0.02 * 0.0464);
   EXPECT_NEAR(loud.rmse[1], 0.0353, 0.02 * 0.0353);
   EXPECT_NEAR(loud.rmse[2], 0.0113, 0.02 * 0.0113);
-  expect_softened_flight(fly("gusts_2n", a), 1405.0, 1480.0);
+  expect_softened_flight(fly("gusts_2n", a), 1333.0, 1398.0);
   // Three and four times the noise (the twice-noise scenario's, scaled): the violations
   // grow (servo rates), the flight goes on to the end without a fallback.
   const std::array<std::array<double, 3>, 2> louder = {{{1.5, 200.0, 1.77}, {2.0, 724.0, 2.37}}};

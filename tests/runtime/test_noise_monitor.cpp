@@ -32,7 +32,7 @@ struct Flight {
   std::vector<bool> filter;
 };
 Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long onset = 0, long stop = 1L << 40,
-           unsigned seed = 3) {
+           unsigned seed = 3, double step = 1.0) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(4), y(4), y_prev(4), u(2), r(4);
@@ -52,7 +52,7 @@ Flight fly(NoiseMonitor& mon, const Plant& p, double scale, long periods, long o
     const double t = static_cast<double>(k) * kDt;
     u << std::sin(0.7 * t), std::cos(0.3 * t);
     // The plant: the model plus an unmodelled constant acceleration and a step at 2 s.
-    Eigen::VectorXd a = u + Eigen::Vector2d(0.3, -0.2) + (t >= 2.0 ? Eigen::Vector2d(1.0, 0.5) : Eigen::Vector2d::Zero());
+    Eigen::VectorXd a = u + Eigen::Vector2d(0.3, -0.2) + (t >= 2.0 ? Eigen::Vector2d(step, 0.5 * step) : Eigen::Vector2d::Zero());
     x = p.A * x + p.B * a;
   }
   return f;
@@ -85,6 +85,22 @@ TEST(NoiseMonitor, CleanSensorsWithBiasModelErrorAndAForceStepReadNearZeroAndHan
     // The filter until the first check's 5 differences (7 measurements) read clean.
     EXPECT_EQ(f.filter[static_cast<std::size_t>(k)], k < 6) << k;
     EXPECT_LT(f.level[static_cast<std::size_t>(k)], 0.025) << k;  // the step at 2 s included
+  }
+}
+
+// A force step moves the residual for one period (two where it starts inside a period):
+// the median of 5 drops it, however large (at 1000 times the step, the velocity rows'
+// residual jumps by kDt * 1000 = 10, 50 of their dr's design standard deviations: a
+// window's plain mean would read several times the design's noise).
+TEST(NoiseMonitor, AForceStepOfAnySizeIsNotNoise) {
+  const Plant p;
+  for (double step : {1.0, 30.0, 1000.0}) {
+    NoiseMonitor mon(p.A, {0, 1, 2, 3}, p.sigma, p.kinds, kDt, settings());
+    const Flight f = fly(mon, p, 0.0, 400, 0, 1L << 40, 3, step);
+    for (long k = 6; k < 400; ++k) {
+      EXPECT_FALSE(f.filter[static_cast<std::size_t>(k)]) << "step " << step << " at " << k;
+      EXPECT_LT(f.level[static_cast<std::size_t>(k)], 0.025) << "step " << step << " at " << k;
+    }
   }
 }
 
