@@ -47,34 +47,20 @@ NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const std::vector<int>& row
     }
     R(r) = sigma(static_cast<Eigen::Index>(j)) * sigma(static_cast<Eigen::Index>(j));
   }
-  // The difference of order q of r, dr(k) = sum_j b_j r(k - j) with b_j = (-1)^j C(q, j),
-  // is sum_j C_j v(k - j) with C_j = b_j I - b_(j-1) A (the polynomial (1 - z)^q (I - A z)),
-  // so (cov dr)_ii = sum_j sum_l (C_j)_il^2 R_ll.
-  std::vector<double> b(static_cast<std::size_t>(kDifferenceOrder) + 2, 0.0);
-  b[0] = 1.0;
-  for (int q = 0; q < kDifferenceOrder; ++q) {
-    for (int j = q + 1; j >= 1; --j) b[static_cast<std::size_t>(j)] -= b[static_cast<std::size_t>(j - 1)];
-  }
-  b.pop_back();
-  b_ = b;
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+  // (cov dr)_ii = R_ii + sum_k (I + A)_ik^2 R_kk + sum_k A_ik^2 R_kk.
+  const Eigen::MatrixXd IA = Eigen::MatrixXd::Identity(n, n) + A;
   inv_var_.resize(static_cast<Eigen::Index>(rows.size()));
   group_rows_.assign(4, 0);
   for (std::size_t j = 0; j < rows.size(); ++j) {
     const int r = rows[j];
-    double v = 0.0;
-    for (int q = 0; q <= kDifferenceOrder + 1; ++q) {
-      const double bq = q <= kDifferenceOrder ? b[static_cast<std::size_t>(q)] : 0.0;
-      const double bp = q >= 1 ? b[static_cast<std::size_t>(q - 1)] : 0.0;
-      v += (bq * I.row(r) - bp * A.row(r)).cwiseAbs2().dot(R);
-    }
+    const double v = R(r) + IA.row(r).cwiseAbs2().dot(R) + A.row(r).cwiseAbs2().dot(R);
     inv_var_(static_cast<Eigen::Index>(j)) = 1.0 / v;
     const int g = static_cast<int>(group_of(kinds[static_cast<std::size_t>(r)]));
     group_.push_back(g);
     ++group_rows_[static_cast<std::size_t>(g)];
   }
   window_ = std::max<long>(1, std::lround(s_.window_s / dt));
-  r_hist_.assign(static_cast<std::size_t>(kDifferenceOrder), Eigen::VectorXd::Zero(n));
+  r_prev_ = Eigen::VectorXd::Zero(n);
   calibrate(A, R);
 }
 
@@ -92,8 +78,7 @@ void NoiseMonitor::reset() {
 void NoiseMonitor::group_statistic(const Eigen::VectorXd& r, double (&stat)[4]) const {
   double sum[4] = {0, 0, 0, 0};
   for (std::size_t j = 0; j < rows_.size(); ++j) {
-    double d = r(rows_[j]);
-    for (int q = 1; q <= kDifferenceOrder; ++q) d += b_[static_cast<std::size_t>(q)] * r_hist_[static_cast<std::size_t>(q - 1)](rows_[j]);
+    const double d = r(rows_[j]) - r_prev_(rows_[j]);
     sum[group_[j]] += d * d * inv_var_(static_cast<Eigen::Index>(j));
   }
   for (int g = 0; g < 4; ++g) {
@@ -129,11 +114,11 @@ void NoiseMonitor::calibrate(const Eigen::MatrixXd& A, const Eigen::VectorXd& R)
   const Eigen::VectorXd sd = R.cwiseSqrt();
   double mean[4] = {0, 0, 0, 0}, med[4] = {0, 0, 0, 0};
   constexpr long kSamples = 8000;
-  for (long k = 0; k < kSamples + kDifferenceOrder + 1; ++k) {
+  for (long k = 0; k < kSamples + 2; ++k) {
     for (Eigen::Index i = 0; i < n; ++i) v(i) = sd(i) * gauss(rng);
     r.noalias() = v - A * v_prev;
     v_prev = v;
-    if (k > kDifferenceOrder) {
+    if (k >= 2) {  // r_prev_ holds a residual of the noise
       double stat[4];
       group_statistic(r, stat);
       for (int g = 0; g < 4; ++g) {
@@ -141,22 +126,21 @@ void NoiseMonitor::calibrate(const Eigen::MatrixXd& A, const Eigen::VectorXd& R)
         med[g] += robust(g, stat[g]);
       }
     }
-    for (std::size_t q = r_hist_.size() - 1; q >= 1; --q) r_hist_[q].swap(r_hist_[q - 1]);
-    r_hist_.front() = r;
+    r_prev_ = r;
   }
   for (int g = 0; g < 4; ++g) median_scale_[g] = med[g] > 0.0 ? mean[g] / med[g] : 1.0;
   std::fill(std::begin(recent_count_), std::end(recent_count_), 0);
   std::fill(std::begin(recent_next_), std::end(recent_next_), 0);
-  for (Eigen::VectorXd& h : r_hist_) h.setZero();
+  r_prev_.setZero();
 }
 
 bool NoiseMonitor::update(const Eigen::VectorXd& r, bool valid) {
   clean_at_start_ = false;
-  if (!valid || r.size() != r_hist_.front().size() || !r.allFinite()) {
+  if (!valid || r.size() != r_prev_.size() || !r.allFinite()) {
     chain_ = 0;
     return filter_;
   }
-  if (chain_ >= kDifferenceOrder) {
+  if (chain_ >= 1) {
     double stat[4];
     group_statistic(r, stat);
     ++samples_;
@@ -178,10 +162,8 @@ bool NoiseMonitor::update(const Eigen::VectorXd& r, bool valid) {
       }
     }
   }
-  // r_hist_[q - 1] = r(k - q): shift (no allocation: the vectors keep their size).
-  for (std::size_t q = r_hist_.size() - 1; q >= 1; --q) r_hist_[q].swap(r_hist_[q - 1]);
-  r_hist_.front() = r;
-  chain_ = std::min(chain_ + 1, kDifferenceOrder);
+  r_prev_ = r;
+  chain_ = 1;
   return filter_;
 }
 

@@ -52,7 +52,6 @@ struct NoiseMonitorSettings {
 class NoiseMonitor {
  public:
   static constexpr long kStartSamples = 5;  ///< differences of the first check
-  static constexpr int kDifferenceOrder = 1;  ///< q: the residual's difference of order q
   static constexpr int kMedianSamples = 5;    ///< the median of this many statistics enters the average
   /// A: the error model (normalized, n states, the first p physical); rows: the
   /// measured rows the noise is known for, sigma: its standard deviations there
@@ -88,13 +87,12 @@ class NoiseMonitor {
   std::vector<int> group_rows_;  ///< rows per group (4 groups)
   NoiseMonitorSettings s_;
   long window_ = 1;
-  std::vector<double> b_;  ///< (-1)^j C(q, j), j = 0..q
-  std::vector<Eigen::VectorXd> r_hist_;  ///< r(k - 1), ..., r(k - q)
+  Eigen::VectorXd r_prev_;
   double mean_[4] = {0, 0, 0, 0};
   double recent_[4][kMedianSamples] = {};
   int recent_count_[4] = {0, 0, 0, 0}, recent_next_[4] = {0, 0, 0, 0};
   double median_scale_[4] = {1, 1, 1, 1};  ///< E[statistic] / E[median] for white noise
-  int chain_ = 0;  ///< consecutive residuals held in r_hist_ (at most q)
+  int chain_ = 0;  ///< 1: r_prev_ is the previous period's residual
   long samples_ = 0;
   double level_ = 0.0;
   bool filter_ = true;
