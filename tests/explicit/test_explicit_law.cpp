@@ -47,7 +47,8 @@ TEST(ExplicitLaw, CaseStudyPartitionIsCompleteAndMatchesTheReferenceAt100kPoints
   Eigen::VectorXd th(l.n), z(l.nz);
   int located = 0, infeasible = 0;
   double worst = 0.0;
-  for (int k = 0; k < 100000; ++k) {
+  const int samples = test::sample_count(100000);
+  for (int k = 0; k < samples; ++k) {
     for (int j = 0; j < l.n; ++j) th(j) = std::uniform_real_distribution<double>(l.domain.lo(j), l.domain.hi(j))(rng);
     const int r1 = scan1.locate(th);
     ASSERT_EQ(scan2.locate(th), r1) << "sample " << k;
@@ -64,10 +65,10 @@ TEST(ExplicitLaw, CaseStudyPartitionIsCompleteAndMatchesTheReferenceAt100kPoints
     worst = std::max(worst, (z - s.z).cwiseAbs().maxCoeff());
     ASSERT_LE((z - s.z).cwiseAbs().maxCoeff(), 1e-6) << "sample " << k << " region " << r1;
   }
-  EXPECT_GT(located, 10000);
+  EXPECT_GT(located, samples / 10);
   EXPECT_GT(infeasible, 0);  // the box reaches outside the feasible set: those points say so
-  std::printf("explicit law: %d regions, %d of 100000 samples located, max |z - z_ref| %.2e\n", l.regions(), located,
-              worst);
+  std::printf("explicit law: %d regions, %d of %d samples located, max |z - z_ref| %.2e\n", l.regions(), located,
+              samples, worst);
 }
 
 TEST(ExplicitLaw, SolverReportsInfeasibleOutsideThePartitionAndRefusesInvalidInput) {

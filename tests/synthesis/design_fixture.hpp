@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -65,11 +66,24 @@ inline const ControllerArtifact& mass_spring_artifact() {
   return a;
 }
 
-/// An artifact designed once per test executable build and kept in the build tree
-/// (TMPC_TEST_CACHE_DIR): ctest runs every test in its own process, and most need only
-/// the artifact (a design takes seconds, a minute under the sanitizers). The cache key
-/// is `tag`, the config text's CRC and this executable's modification time, so a
-/// rebuilt test (or library) designs it anew; `make` designs it.
+/// The newest modification time of the libraries a design runs (TMPC_TEST_DESIGN_LIBS:
+/// their paths, ':'-separated): a rebuilt library changes the design cache's key.
+inline long design_libraries_stamp() {
+  long newest = 0;
+  std::stringstream paths(TMPC_TEST_DESIGN_LIBS);
+  for (std::string path; std::getline(paths, path, ':');) {
+    struct stat st {};
+    if (!path.empty() && ::stat(path.c_str(), &st) == 0) newest = std::max(newest, static_cast<long>(st.st_mtime));
+  }
+  return newest;
+}
+
+/// An artifact designed once per build and shared by every test executable through the
+/// build tree (TMPC_TEST_CACHE_DIR): ctest runs every test in its own process, and most
+/// need only the artifact (a design takes seconds, a minute under the sanitizers). The
+/// cache key is `tag`, the config text's CRC and the design libraries' newest
+/// modification time, so a rebuilt library designs it anew; `make` designs it. Two
+/// processes that miss at once both design and write the same file atomically.
 ///
 /// With TMPC_TEST_ARTIFACTS=DIR in the environment, DIR/<tag>.tmpc is loaded instead
 /// (scripts/cross_arm64.sh: the host's designs for tests run under emulation, where a
@@ -79,27 +93,22 @@ ControllerArtifact cached_artifact(const std::string& tag, const std::string& co
   if (const char* dir = std::getenv("TMPC_TEST_ARTIFACTS"); dir != nullptr && *dir != '\0') {
     return load_artifact(std::string(dir) + "/" + tag + ".tmpc");
   }
-  struct stat st {};
-  const long stamp = ::stat("/proc/self/exe", &st) == 0 ? static_cast<long>(st.st_mtime) : 0;
   const std::string key =
       std::to_string(crc32(reinterpret_cast<const std::uint8_t*>(config_text.data()), config_text.size())) + "-" +
-      std::to_string(stamp);
-  char exe[512] = {};
-  const ssize_t len = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  std::string name = len > 0 ? std::string(exe, static_cast<std::size_t>(len)) : std::string("test");
-  name = name.substr(name.find_last_of('/') + 1);
-  const std::string prefix = tag + "-" + name + "-";
+      std::to_string(design_libraries_stamp());
+  const std::string prefix = tag + "@";  // '@' is in no tag: "noisy@" is not a prefix of "noisy-tube@"
   const std::string path = std::string(TMPC_TEST_CACHE_DIR) + "/" + prefix + key + ".tmpc";
   try {
     return load_artifact(path);
   } catch (const ArtifactError&) {
   }
   ControllerArtifact made = make();
-  // This executable's earlier caches of `tag` (another config or build) are stale.
+  // Earlier caches of `tag` (another config or build) are stale.
   if (DIR* dir = ::opendir(TMPC_TEST_CACHE_DIR)) {
     while (const dirent* e = ::readdir(dir)) {
       const std::string f = e->d_name;
-      if (f.rfind(prefix, 0) == 0 && f.size() > 5 && f.compare(f.size() - 5, 5, ".tmpc") == 0) {
+      if (f.rfind(prefix, 0) == 0 && f.size() > 5 && f.compare(f.size() - 5, 5, ".tmpc") == 0 &&
+          f != prefix + key + ".tmpc") {
         std::remove((std::string(TMPC_TEST_CACHE_DIR) + "/" + f).c_str());
       }
     }
