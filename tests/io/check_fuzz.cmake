@@ -7,7 +7,7 @@ endif()
 file(REMOVE_RECURSE ${OUT}/corpus)
 file(MAKE_DIRECTORY ${OUT}/corpus)
 set(common -std=c++17 -I${SRC}/include ${SRC}/src/io/protocol.cpp ${SRC}/src/model/checksum.cpp)
-execute_process(COMMAND ${CLANG} -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+execute_process(COMMAND ${CLANG} -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
                         ${SRC}/tests/io/fuzz_protocol.cpp ${common} -o ${OUT}/fuzz_protocol
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)

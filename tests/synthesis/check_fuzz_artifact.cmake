@@ -40,7 +40,8 @@ find_path(CLP_DIR ClpSimplex.hpp PATHS /usr/include/coin /usr/include/coin-or /u
 if(NOT CLP_DIR)
   message(FATAL_ERROR "CLP headers not found")
 endif()
-execute_process(COMMAND ${CLANG} -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+# -gline-tables-only: file and line in a report, a fifth less compile time than -g.
+execute_process(COMMAND ${CLANG} -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
                         -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR} -isystem ${CLP_DIR}
                         ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs} -lyaml-cpp -lClp -lCoinUtils -o ${OUT}/fuzz_artifact
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
