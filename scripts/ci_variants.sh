@@ -5,11 +5,14 @@
 #   asan      TMPC_SANITIZE=ON TMPC_WITH_CUDA=OFF: ASan + UBSan over every CPU test but
 #             the labels `slow` (the 80 s missions) and `fuzz` (the fuzz targets are
 #             built by clang with ASan + UBSan whatever the options, and ran in the
-#             default build) and the three-gain comparisons of test_design_gains
-#             (CSDP's SDPs at every LPV vertex, minutes under ASan; the LMI code runs
-#             under ASan in test_synthesis). Sampled checks run a tenth of their
-#             samples (tests/model/test_support.hpp). It is also the build without
-#             CUDA (a machine without nvcc): it builds and passes without it.
+#             default build), the three-gain comparisons of test_design_gains
+#             (CSDP's SDPs at every LPV vertex) and the command-line checks that
+#             design through `tmpc design` (cli.batch, cli.preflight,
+#             cli.design_inspect_export): minutes each under ASan, their design code
+#             runs under ASan in test_synthesis, their solves and checks in the unit
+#             tests. Sampled checks run a tenth of their samples
+#             (tests/model/test_support.hpp). It is also the build without CUDA (a
+#             machine without nvcc): it builds and passes without it.
 #   nomujoco  TMPC_WITH_MUJOCO=OFF (a Jetson image without MuJoCo): builds, and runs
 #             the tests of what the option changes: the command line (label `cli`:
 #             `plant`, `openloop`, `crosscheck` refuse the MuJoCo plant, saying why)
@@ -40,7 +43,7 @@ for v in "${variants[@]}"; do
     continue
   fi
   case "$v" in
-    asan) opts=(-DTMPC_SANITIZE=ON -DTMPC_WITH_CUDA=OFF -DTMPC_BUILD_BENCH=OFF); ctest_args=(-LE "slow|fuzz" -E "^DesignGains\.") ;;
+    asan) opts=(-DTMPC_SANITIZE=ON -DTMPC_WITH_CUDA=OFF -DTMPC_BUILD_BENCH=OFF); ctest_args=(-LE "slow|fuzz" -E "^(DesignGains\.|cli\.(batch|preflight|design_inspect_export)$)") ;;
     nomujoco) opts=(-DTMPC_WITH_MUJOCO=OFF -DTMPC_BUILD_BENCH=OFF); ctest_args=(-LE "slow|fuzz" -R "^(cli\.|[A-Za-z]*Plant|Scenario)") ;;
     nocuda) opts=(-DTMPC_WITH_CUDA=OFF); ctest_args=(-LE "slow|fuzz") ;;
     *) echo "ci_variants: unknown variant '$v' (asan, nomujoco, arm64, nocuda)" >&2; exit 2 ;;
