@@ -16,6 +16,7 @@
 #include "tmpc/metrics/campaign.hpp"
 #include "tmpc/metrics/mission.hpp"
 #include "tmpc/model/config.hpp"
+#include "tmpc/runtime/force_envelope.hpp"
 #include "tmpc/sim/scenario.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -141,6 +142,11 @@ void run_simulate(const SimOptions& o) {
               sc.disturbances.empty() ? ", no disturbance" : (", " + std::to_string(sc.disturbances.events().size()) + " disturbance events").c_str(),
               r.noisy ? ", noisy sensors" : "", o.run >= 0 ? (", Monte Carlo run " + std::to_string(o.run)).c_str() : "");
   print_metrics(r);
+  if (a.model == ModelKind::Tiltrotor) {  // whether any controller could have held the forces (the plant's load)
+    const VehicleParams flown = sc.plant_vehicle(m.plant_vehicle ? *m.plant_vehicle : a.vehicle, o.run, o.seed);
+    const ForceEnvelopeReport f = check_force_envelope(a, *sc.trajectory, sc.disturbances, duration, &flown);
+    if (f.applicable) std::printf("  %s\n", f.message.c_str());
+  }
   std::printf("  %s/metrics.json, %s/telemetry.csv\n", o.out.c_str(), o.out.c_str());
 }
 

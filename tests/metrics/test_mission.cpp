@@ -15,6 +15,7 @@
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/metrics/campaign.hpp"
 #include "tmpc/metrics/mission.hpp"
+#include "tmpc/runtime/force_envelope.hpp"
 #include "tmpc/solvers/kkt.hpp"
 #include "tmpc/solvers/solver.hpp"
 
@@ -328,6 +329,57 @@ TEST(Mission, TheBoxPeaksAreTheTelemetrysLargestErrorsOverTheirBounds) {
   double largest = 0.0;
   for (const auto& kv : j.at("box_peak_ratio").items()) largest = std::max(largest, kv.value().get<double>());
   EXPECT_DOUBLE_EQ(largest, m.violation_max_ratio);
+}
+
+// The force envelope's statics (runtime/force_envelope.hpp) against the simulator: a
+// force ramped onto the load in 6 s at hover, held 7 s; the load settles where the rod
+// carries m_L g - F alone: the report's static tilt is the flown steady attitude.
+TEST(Mission, TheLoadSettlesAtTheStaticTiltTheForceEnvelopeReports) {
+  const Scenario s = scenario_from_string(
+      "name: lateral\nduration: 14.0\ntrajectory: {type: hover, position: [0.0, 0.0, 3.0], yaw: 0.0}\n"
+      "disturbances:\n  - {type: ramp, start: 1.0, end: 7.0, force: [0.8, 2.0, 0.5]}\n",
+      "lateral.yaml");
+  MissionOptions o;
+  o.telemetry_csv = ::testing::TempDir() + "lateral.csv";
+  const MissionMetrics m = run_mission(artifact(), s, o);
+  ASSERT_FALSE(m.diverged);
+  EXPECT_EQ(m.state_constraint_violations, 0);
+  std::ifstream in(o.telemetry_csv);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) header.push_back(c);
+  }
+  auto column = [&](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t t = column("t"), e_phi = column("e_phi"), r_phi = column("r_phi"), e_theta = column("e_theta"),
+                    r_theta = column("r_theta");
+  ASSERT_LT(r_theta, header.size());
+  double phi = 0.0, theta = 0.0;
+  int n = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    if (std::stod(f[t]) < 12.0) continue;
+    phi += std::stod(f[e_phi]) + std::stod(f[r_phi]);
+    theta += std::stod(f[e_theta]) + std::stod(f[r_theta]);
+    ++n;
+  }
+  ASSERT_GT(n, 100);
+  phi /= n;
+  theta /= n;
+  const ForceEnvelopeReport r = check_force_envelope(artifact(), *s.trajectory, s.disturbances, s.duration);
+  ASSERT_TRUE(r.applicable);
+  EXPECT_EQ(r.static_peak_state, "phi");
+  std::printf("settled phi %.5f theta %.5f rad; reported static phi %.5f\n", phi, theta, r.static_peak * 0.5);
+  EXPECT_NEAR(phi, r.static_peak * 0.5, 1e-3);
+  // theta in the same statics: tan(theta) = -F_x / (m_L g - F_z).
+  EXPECT_NEAR(theta, std::atan2(-0.8, 0.5 * artifact().vehicle.gravity - 0.5), 1e-3);
+  EXPECT_TRUE(r.certified.empty());
 }
 
 }  // namespace

@@ -1,0 +1,235 @@
+// Rod statics against the state box (see force_envelope.hpp).
+#include "tmpc/runtime/force_envelope.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "tmpc/model/reference.hpp"
+#include "tmpc/sets/lp.hpp"
+
+namespace tmpc {
+
+namespace {
+
+/// Angle range [lo, hi] per axis over the whole flight: reference -+ bound.
+struct AngleRanges {
+  double lo[3], hi[3];
+};
+
+/// Slope (r_x, r_y) / r_z of r = Rz(psi) Ry(theta) Rx(phi) e_z.
+Eigen::Vector2d rod_slope(double phi, double theta, double psi) {
+  const double cf = std::cos(phi), sf = std::sin(phi), ct = std::cos(theta), st = std::sin(theta);
+  const double cp = std::cos(psi), sp = std::sin(psi);
+  const Eigen::Vector3d r(cf * st * cp + sf * sp, cf * st * sp - sf * cp, cf * ct);
+  return r.head<2>() / r.z();
+}
+
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+}
+
+/// Convex hull, counter-clockwise (Andrew's monotone chain).
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0.0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0.0) --k;
+    h[k++] = p[i];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+/// conv S as half-planes n_k' s <= c_k, pushed out by `margin` (more than the sampling's
+/// sag: the boundary curves are sampled every 1/400 of a range in phi and theta and every
+/// 1/200 in psi, their chords at most ~1e-5 inside).
+struct SlopeHull {
+  std::vector<Eigen::Vector2d> normal;
+  std::vector<double> offset;
+  bool contains(const Eigen::Vector2d& s) const {
+    for (std::size_t k = 0; k < normal.size(); ++k)
+      if (normal[k].dot(s) > offset[k]) return false;
+    return true;
+  }
+};
+
+SlopeHull admissible_slopes(const AngleRanges& r) {
+  constexpr int kEdge = 400, kYaw = 200;
+  constexpr double kMargin = 1e-4;
+  std::vector<Eigen::Vector2d> pts;
+  pts.reserve(static_cast<std::size_t>(4 * kEdge * (kYaw + 1)));
+  for (int j = 0; j <= kYaw; ++j) {
+    const double psi = r.lo[2] + (r.hi[2] - r.lo[2]) * j / kYaw;
+    for (int i = 0; i < kEdge; ++i) {
+      const double f = r.lo[0] + (r.hi[0] - r.lo[0]) * i / kEdge;
+      const double th = r.lo[1] + (r.hi[1] - r.lo[1]) * i / kEdge;
+      pts.push_back(rod_slope(f, r.lo[1], psi));
+      pts.push_back(rod_slope(f, r.hi[1], psi));
+      pts.push_back(rod_slope(r.lo[0], th, psi));
+      pts.push_back(rod_slope(r.hi[0], th, psi));
+    }
+    pts.push_back(rod_slope(r.hi[0], r.hi[1], psi));
+  }
+  const std::vector<Eigen::Vector2d> h = convex_hull(std::move(pts));
+  SlopeHull s;
+  for (std::size_t k = 0; k < h.size(); ++k) {
+    const Eigen::Vector2d e = h[(k + 1) % h.size()] - h[k];
+    const Eigen::Vector2d n = Eigen::Vector2d(e.y(), -e.x()).normalized();  // outward (counter-clockwise hull)
+    s.normal.push_back(n);
+    s.offset.push_back(n.dot(h[k]) + kMargin);
+  }
+  return s;
+}
+
+int index_of(const ControllerArtifact& a, const char* name) {
+  const auto it = std::find(a.state_names.begin(), a.state_names.end(), name);
+  return it == a.state_names.end() ? -1 : static_cast<int>(it - a.state_names.begin());
+}
+
+/// Whether some mean acceleration in [lo, hi] puts m_L a + G in the cone over the hull:
+/// n_k' (m_L a_xy + G_xy) <= c_k (m_L a_z + G_z) for every k (the rod in tension,
+/// m_L a_z + G_z > 0 over the box: checked by the caller).
+bool admissible_mean(const SlopeHull& hull, double m_load, const Eigen::Vector3d& G, const Eigen::Vector3d& lo,
+                     const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d mid = 0.5 * (lo + hi);
+  const Eigen::Vector3d v = m_load * mid + G;
+  if (hull.contains(v.head<2>() / v.z())) return true;  // the middle acceleration already fits
+  const int rows = static_cast<int>(hull.normal.size());
+  Eigen::MatrixXd A(rows, 3);
+  Eigen::VectorXd b(rows);
+  for (int k = 0; k < rows; ++k) {
+    const Eigen::Vector2d& n = hull.normal[static_cast<std::size_t>(k)];
+    const double c = hull.offset[static_cast<std::size_t>(k)];
+    A.row(k) << m_load * n.x(), m_load * n.y(), -m_load * c;
+    b(k) = c * G.z() - n.dot(G.head<2>());
+  }
+  const LpResult r = solve_lp(Eigen::VectorXd::Zero(3), A, b, Eigen::MatrixXd(0, 3), Eigen::VectorXd(0), lo, hi);
+  return r.status != LpStatus::Infeasible;
+}
+
+}  // namespace
+
+ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Trajectory& t,
+                                         const DisturbanceProfile& d, double duration,
+                                         const VehicleParams* plant) {
+  ForceEnvelopeReport rep;
+  const int i_phi = index_of(a, "phi"), i_theta = index_of(a, "theta"), i_psi = index_of(a, "psi");
+  const int i_v[3] = {index_of(a, "d_x"), index_of(a, "d_y"), index_of(a, "d_z")};
+  if (a.model != ModelKind::Tiltrotor || i_phi < 0 || i_theta < 0 || i_psi < 0 || i_v[0] < 0 || i_v[1] < 0 ||
+      i_v[2] < 0) {
+    rep.message = "no load on a rod in this model";
+    return rep;
+  }
+  const double T = a.sample_time;
+  const long periods = std::lround(duration / T);
+  std::vector<Eigen::Vector3d> force(static_cast<std::size_t>(periods + 1));
+  bool any = false;
+  for (long k = 0; k <= periods; ++k) {
+    force[static_cast<std::size_t>(k)] = d.load_force(static_cast<double>(k) * T);
+    any = any || force[static_cast<std::size_t>(k)].norm() > 0.0;
+  }
+  if (!any) {
+    rep.message = "no force on the load";
+    return rep;
+  }
+  rep.applicable = true;
+  auto half_width = [&](int i) { return a.X.hi(i) / a.N_x(i); };
+  const double bound[3] = {half_width(i_phi), half_width(i_theta), half_width(i_psi)};
+  const Eigen::Vector3d dv_max(half_width(i_v[0]), half_width(i_v[1]), half_width(i_v[2]));
+  const VehicleParams& vp = plant ? *plant : a.vehicle;
+  const double m_load = vp.load_mass, g = vp.gravity;
+
+  // The reference along the flight: attitude and load velocity.
+  const TiltrotorModel model(a.vehicle);
+  ReferenceGenerator gen(model, std::shared_ptr<const Trajectory>(&t, [](const Trajectory*) {}), a.attitude);
+  std::vector<Eigen::Vector3d> eta(force.size()), vel(force.size());
+  AngleRanges range{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
+  for (long k = 0; k <= periods; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const ReferencePoint r = gen.at(static_cast<double>(k) * T);
+    eta[kk] = r.q.segment<3>(3);
+    vel[kk] = r.qd.head<3>();
+    for (int i = 0; i < 3; ++i) {
+      range.lo[i] = std::min(range.lo[i], eta[kk](i) - bound[i]);
+      range.hi[i] = std::max(range.hi[i], eta[kk](i) + bound[i]);
+    }
+  }
+
+  // Static tilt: the rod along -F + m_L g e_z, seen in the reference's yaw.
+  static const char* const angle_name[2] = {"phi", "theta"};
+  for (long k = 0; k <= periods; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const Eigen::Vector3d n =
+        Eigen::AngleAxisd(-eta[kk](2), Eigen::Vector3d::UnitZ()) * (m_load * g * Eigen::Vector3d::UnitZ() - force[kk]);
+    if (!(n.z() > 0.0)) continue;  // the rod in compression: beyond this check
+    const double phi = -std::asin(n.y() / n.norm()), theta = std::atan2(n.x(), n.z());
+    const double ratio[2] = {std::abs(phi - eta[kk](0)) / bound[0], std::abs(theta - eta[kk](1)) / bound[1]};
+    for (int i = 0; i < 2; ++i) {
+      if (ratio[i] > rep.static_peak) {
+        rep.static_peak = ratio[i];
+        rep.static_peak_time = static_cast<double>(k) * T;
+        rep.static_peak_state = angle_name[i];
+      }
+    }
+    if (std::max(ratio[0], ratio[1]) > 1.0) rep.static_outside += T;
+  }
+
+  // Certified windows: every 10th period, each length; then the earliest-ending disjoint ones.
+  std::vector<Eigen::Vector3d> prefix(force.size() + 1, Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < force.size(); ++k) prefix[k + 1] = prefix[k] + force[k];
+  auto certify = [&](const AngleRanges& angles) {
+    const SlopeHull hull = admissible_slopes(angles);
+    std::vector<ForceWindow> found, disjoint;
+    for (const double w : force_window_lengths()) {
+      const long len = std::lround(w / T);
+      for (long k0 = 0; k0 + len <= periods; k0 += 10) {
+        const auto s = static_cast<std::size_t>(k0), e = static_cast<std::size_t>(k0 + len);
+        const Eigen::Vector3d f_mean = (prefix[e + 1] - prefix[s]) / static_cast<double>(len + 1);
+        const double span = static_cast<double>(len) * T;
+        const Eigen::Vector3d dv_r = vel[e] - vel[s];
+        const Eigen::Vector3d lo = (dv_r - 2.0 * dv_max) / span, hi = (dv_r + 2.0 * dv_max) / span;
+        const Eigen::Vector3d G = m_load * g * Eigen::Vector3d::UnitZ() - f_mean;
+        if (!(m_load * lo.z() + G.z() > 0.0)) continue;  // the rod might be in compression: no conclusion
+        if (!admissible_mean(hull, m_load, G, lo, hi))
+          found.push_back({static_cast<double>(k0) * T, static_cast<double>(k0 + len) * T});
+      }
+    }
+    std::sort(found.begin(), found.end(), [](const ForceWindow& x, const ForceWindow& y) { return x.end < y.end; });
+    for (const ForceWindow& f : found)
+      if (disjoint.empty() || f.start > disjoint.back().end) disjoint.push_back(f);
+    return disjoint;
+  };
+  rep.certified = certify(range);
+  AngleRanges held = range;  // the yaw held on its reference
+  held.lo[2] += bound[2];
+  held.hi[2] -= bound[2];
+  rep.certified_reference_yaw = certify(held);
+
+  std::ostringstream os;
+  os << "forces on the load: static tilt up to " << rep.static_peak << " of the " << rep.static_peak_state
+     << " bound (t = " << rep.static_peak_time << " s), outside the box for " << rep.static_outside << " s; ";
+  auto windows = [&](const std::vector<ForceWindow>& w) {
+    os << w.size() << " disjoint window(s)";
+    if (!w.empty()) os << " (first " << w[0].start << " to " << w[0].end << " s)";
+  };
+  os << "certified outside the box: ";
+  windows(rep.certified);
+  os << " for every controller, ";
+  windows(rep.certified_reference_yaw);
+  os << " for one that holds the reference yaw";
+  if (!rep.certified.empty()) os << ": no controller flies this without violations";
+  rep.message = os.str();
+  return rep;
+}
+
+}  // namespace tmpc
