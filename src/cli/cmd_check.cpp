@@ -53,7 +53,7 @@ int run_check(const CheckOptions& o) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("%s: %s\n", r.ok ? "flyable" : "REFUSED", r.message.c_str());
-    if (f.applicable) std::printf("%s: %s\n", f.certified.empty() ? "forces" : "WARNING", f.message.c_str());
+    if (f.applicable) std::printf("%s%s\n", f.certified.empty() ? "" : "WARNING: ", f.message.c_str());
   }
   return r.ok ? 0 : 1;
 }

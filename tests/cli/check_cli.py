@@ -114,6 +114,16 @@ elif check == "preflight":
     for name in ["thesis_helix", "figure_eight", "waypoints", "lissajous_csv"]:
         j = json.loads(run("check", "--controller", art, "--scenario", scenarios + name + ".yaml", "--json").stdout)
         need(j["ok"] and j["scenario"] == name, f"{name}: {j}")
+    # The forces against the box: a warning, not a refusal (exit 0), with the windows.
+    p = run("check", "--controller", art, "--scenario", scenarios + "sustained_force_4n.yaml")
+    need(re.search(r"WARNING: forces on the load: .* 8 disjoint window\(s\) .* for every controller", p.stdout)
+         is not None, f"4 N: no warning: {p.stdout}")
+    j = json.loads(run("check", "--controller", art, "--scenario", scenarios + "sustained_force_4n.yaml",
+                       "--json").stdout)
+    need(j["ok"] and len(j["forces"]["certified_windows"]) == 8 and j["forces"]["static_peak_state"] == "theta",
+         f"4 N: {j}")
+    p = run("check", "--controller", art, "--scenario", scenarios + "thesis_helix.yaml")
+    need("\nforces on the load: static tilt up to 0.50" in p.stdout and "WARNING" not in p.stdout, f"helix: {p.stdout}")
     fast = os.path.join(scratch, "fast_eight.yaml")
     open(fast, "w").write("duration: 60\ntrajectory: {type: figure_eight, center: [0, 0, 3], amplitude: [8, 3], "
                           "angular_rate: 0.11}\n")
