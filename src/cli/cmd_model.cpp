@@ -1,8 +1,11 @@
 // `tmpc model`: the equilibrium, u_r(0), eigenvalues of the nominal error model and
-// the LPV summary, as text or JSON with stable keys.
+// the LPV summary, as text or JSON with stable keys; `--run K` of a scenario's Monte
+// Carlo draw for its perturbed vehicle, `--matrices` the discrete model itself (for
+// analyses outside tmpc, e.g. scripts/best_case_peak.py).
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
@@ -20,8 +23,19 @@ namespace {
 
 struct ModelOptions {
   std::string config = "config/tiltrotor.yaml", scenario;
-  bool json = false;
+  int run = -1;
+  bool json = false, matrices = false;
 };
+
+nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    std::vector<double> row(static_cast<std::size_t>(m.cols()));
+    for (Eigen::Index k = 0; k < m.cols(); ++k) row[static_cast<std::size_t>(k)] = m(i, k);
+    out.push_back(row);
+  }
+  return out;
+}
 
 nlohmann::json eigen_json(const Eigen::VectorXcd& ev) {
   nlohmann::json out = nlohmann::json::array();
@@ -35,8 +49,13 @@ std::vector<double> to_vec(const V& v) {
 }
 
 void run_model(const ModelOptions& opt) {
-  const Config cfg = load_config(data_file(opt.config));
+  Config cfg = load_config(data_file(opt.config));
   if (cfg.model != ModelKind::Tiltrotor) throw std::runtime_error(opt.config + ": `tmpc model` reports the tiltrotor's model");
+  if (opt.run >= 0) {  // the vehicle of a Monte Carlo run: its equilibrium and error model
+    if (opt.scenario.empty()) throw std::runtime_error("--run needs --scenario (its plant.random draws the vehicle)");
+    cfg.vehicle = load_scenario(data_file(opt.scenario)).plant_vehicle(cfg.vehicle, opt.run);
+  }
+  if (opt.matrices && !opt.json) throw std::runtime_error("--matrices needs --json");
   const TiltrotorModel model(cfg.vehicle);
   const ErrorModel em = build_error_model(cfg);
   // The feedforward at the start of a scenario's trajectory (default: hover).
@@ -80,6 +99,21 @@ void run_model(const ModelOptions& opt) {
                    {"u_r_max", to_vec(em.u_r_max)},
                    {"error_min", to_vec(em.input_error_min)},
                    {"error_max", to_vec(em.input_error_max)}};
+    j["vehicle"] = {{"load_mass", cfg.vehicle.load_mass}, {"body_mass", cfg.vehicle.body_mass},
+                    {"rotor_mass", cfg.vehicle.rotor_mass}, {"run", opt.run}};
+    if (opt.matrices) {
+      // x(k+1) = A x(k) + B u(k) + D d(k): the augmented error model at sigma = 0 (physical
+      // units; d the force on the load, N), with the box and the actuator limits.
+      j["matrices"] = {{"A", matrix_json(em.A)},
+                       {"B", matrix_json(em.B)},
+                       {"D", matrix_json(em.D)},
+                       {"state_names", cfg.state_names()},
+                       {"state_error_max", to_vec(cfg.state_error_max)},
+                       {"measured", em.measured},
+                       {"u_eq", to_vec(eq.u)},
+                       {"input_min", to_vec(cfg.input_min)},
+                       {"input_max", to_vec(cfg.input_max)}};
+    }
     std::cout << j.dump(2) << "\n";
     return;
   }
@@ -126,7 +160,10 @@ void register_model(CLI::App& app) {
   sub->add_option("--config", opt->config, "design configuration (YAML)")->check(CLI::ExistingFile);
   sub->add_option("--scenario", opt->scenario, "the feedforward at this scenario's start (default: hover)")
       ->check(CLI::ExistingFile);
+  sub->add_option("--run", opt->run, "the vehicle of Monte Carlo run K of --scenario's plant.random")
+      ->check(CLI::NonNegativeNumber);
   sub->add_flag("--json", opt->json, "print JSON with stable keys");
+  sub->add_flag("--matrices", opt->matrices, "with --json: the discrete error model A, B, D, the box and the limits");
   sub->callback([opt]() { run_model(*opt); });
 }
 

@@ -4,7 +4,7 @@ and its figures are parsed and compared with what the README states.
 
     check_cli.py TMPC CONFIG SCRATCH CHECK    (CHECK: openloop-el | openloop-mujoco |
                                                unknown-plant | crosscheck | devices | batch |
-                                               preflight | second-system)
+                                               preflight | second-system | best-case)
 """
 import json
 import os
@@ -37,6 +37,23 @@ def number(pattern, text):
     return float(m.group(1))
 
 
+scenarios = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios/")
+
+
+def design_quick(*extra):
+    """The default config designed without the gain comparison and with fewer
+    verification directions (the same controller, a shorter design; the envelope's
+    scenario paths made absolute for the copy); its artifact."""
+    text = open(config).read().replace("compare_gains: true", "compare_gains: false")
+    text = text.replace("verify_directions: 2000", "verify_directions: 100")
+    text = re.sub(r"(?<=[\[\s,])scenarios/", lambda _: scenarios, text)
+    quick = os.path.join(scratch, "quick.yaml")
+    open(quick, "w").write(text)
+    art = os.path.join(scratch, "c.tmpc")
+    run("design", "--config", quick, "--out", art, *extra)
+    return art
+
+
 if check.startswith("openloop-"):
     plant = check.split("-", 1)[1]
     out = run("openloop", "--config", config, "--plant", plant, "--duration", "2").stdout
@@ -67,14 +84,7 @@ elif check == "devices":
 elif check == "batch":
     # A quick design, then five states solved one by one (--json) and all at once
     # (--batch): the batch rows are the single solves.
-    text = open(config).read().replace("compare_gains: true", "compare_gains: false")
-    text = text.replace("verify_directions: 2000", "verify_directions: 100")
-    scenarios = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios/")  # the envelope's, from the copy
-    text = re.sub(r"(?<=[\[\s,])scenarios/", lambda _: scenarios, text)
-    quick = os.path.join(scratch, "quick.yaml")
-    open(quick, "w").write(text)
-    art = os.path.join(scratch, "c.tmpc")
-    run("design", "--config", quick, "--out", art, "--report", os.path.join(scratch, "r.json"))
+    art = design_quick("--report", os.path.join(scratch, "r.json"))
     states = [[0.002 * (k + 1) * (1 if i % 2 else -1) for i in range(24)] for k in range(5)]
     batch = os.path.join(scratch, "states.txt")
     with open(batch, "w") as f:
@@ -103,14 +113,7 @@ elif check == "preflight":
     # `tmpc check`: the shipped scenarios are flyable with a design of the default
     # config (exit 0); a scenario outside the envelope is refused (exit 1) with the time
     # and the numbers; `simulate` refuses it before take-off (an error, no output).
-    text = open(config).read().replace("compare_gains: true", "compare_gains: false")
-    text = text.replace("verify_directions: 2000", "verify_directions: 100")
-    scenarios = os.path.join(os.path.dirname(os.path.abspath(config)), "scenarios/")
-    text = re.sub(r"(?<=[\[\s,])scenarios/", lambda _: scenarios, text)
-    quick = os.path.join(scratch, "quick.yaml")
-    open(quick, "w").write(text)
-    art = os.path.join(scratch, "c.tmpc")
-    run("design", "--config", quick, "--out", art)
+    art = design_quick()
     for name in ["thesis_helix", "figure_eight", "waypoints", "lissajous_csv"]:
         j = json.loads(run("check", "--controller", art, "--scenario", scenarios + name + ".yaml", "--json").stdout)
         need(j["ok"] and j["scenario"] == name, f"{name}: {j}")
@@ -133,6 +136,45 @@ elif check == "preflight":
     p = run("simulate", "--controller", art, "--scenario", fast, "--out", os.path.join(scratch, "fast"), expect_rc=None)
     need(p.returncode != 0 and "refused before take-off" in p.stderr, f"simulate flew it: {p.returncode} {p.stderr}")
     need(not os.path.exists(os.path.join(scratch, "fast", "metrics.json")), "a refused flight left metrics")
+elif check == "best-case":
+    # scripts/best_case_peak.py: the smallest peak any controller reaches after the
+    # thesis' 1 N x step, on the linearized plant of a Monte Carlo draw (README "Mass
+    # errors"). Oracles: the free pendulum's swing speed F / (m_L sqrt(g / l)), which
+    # the vehicle barely improves on; and the shipped controller's flown peaks, which no
+    # controller beats.
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "best_case_peak.py")
+    masses = scenarios + "masses_30.yaml"
+    expected = {None: 0.7687, 1: 0.8912, 2: 1.0266, 9: 1.0402}  # README
+    p = run("model", "--config", config, "--run", "1", "--json", expect_rc=None)
+    need(p.returncode != 0 and "--run needs --scenario" in p.stderr, f"--run without a scenario: {p.stderr}")
+    p = run("model", "--config", config, "--matrices", expect_rc=None)
+    need(p.returncode != 0 and "--matrices needs --json" in p.stderr, f"--matrices without --json: {p.stderr}")
+    art = design_quick()
+    for k, peak in expected.items():
+        model = os.path.join(scratch, f"model_{k}.json")
+        extra = [] if k is None else ["--scenario", masses, "--run", str(k)]
+        with open(model, "w") as fh:
+            fh.write(run("model", "--config", config, *extra, "--json", "--matrices").stdout)
+        p = subprocess.run([sys.executable, script, model, "--force", "1", "0", "0", "--horizon", "1.0", "--json"],
+                           capture_output=True, text=True, timeout=600)
+        need(p.returncode == 0, f"run {k}: best_case_peak.py failed: {p.stderr}")
+        if p.returncode != 0:
+            continue
+        r = json.loads(p.stdout)
+        m_load = json.load(open(model))["vehicle"]["load_mass"]
+        swing = 1.0 / (m_load * (9.81 / 0.5) ** 0.5) / 0.6  # free pendulum's peak speed / the d_x bound
+        print(f"run {k}: load {m_load:.3f} kg, best case {r['peak']:.4f} ({r['binding_state']} at "
+              f"{r['binding_time']:.3f} s), free swing {swing:.4f}")
+        need(abs(r["peak"] - peak) < 2e-3 * peak, f"run {k}: best case {r['peak']}, README states {peak}")
+        need(r["binding_state"] == "d_x" and abs(r["binding_time"] - 0.372) < 0.013, f"run {k}: binds {r}")
+        need(1.0 <= r["peak"] / swing <= 1.04, f"run {k}: best case {r['peak']} against the free swing {swing}")
+        if k is None:
+            continue
+        out = os.path.join(scratch, f"fly_{k}")
+        run("simulate", "--controller", art, "--scenario", masses, "--run", str(k), "--duration", "25", "--out", out)
+        flown = max(json.load(open(os.path.join(out, "metrics.json")))["box_peak_ratio"].values())
+        print(f"run {k}: flown peak {flown:.4f}")
+        need(flown >= 0.99 * r["peak"], f"run {k}: flown {flown} below the best case {r['peak']}")
 elif check == "second-system":
     # The mass-spring pair (config/mass_spring.yaml): designed, flown on the virtual
     # clock and in real time over a pseudo-terminal pair by the same commands.
