@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "json_matrix.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/solvers/soft_penalty.hpp"
@@ -235,15 +236,6 @@ void run_export(const ExportOptions& o) {
   const Eigen::VectorXd x0 = parse_vector(o.x0, a.n, "--x0");
   const MpcQpData d = a.qp();
   const CondensedQp qp = condensed_qp(d, x0);
-  auto mat = [](const Eigen::MatrixXd& m) {
-    nlohmann::json rows = nlohmann::json::array();
-    for (Eigen::Index i = 0; i < m.rows(); ++i) {
-      std::vector<double> r(static_cast<std::size_t>(m.cols()));
-      for (Eigen::Index j = 0; j < m.cols(); ++j) r[static_cast<std::size_t>(j)] = m(i, j);
-      rows.push_back(r);
-    }
-    return rows;
-  };
   auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
   std::vector<std::string> vars;
   for (int k = 0; k < a.M; ++k) {
@@ -254,9 +246,9 @@ void run_export(const ExportOptions& o) {
       {"controller", o.controller},
       {"x0", vec(x0)},
       {"variables", vars},
-      {"H", mat(qp.H)},
+      {"H", json_rows(qp.H)},
       {"f", vec(qp.f)},
-      {"A", mat(qp.A)},
+      {"A", json_rows(qp.A)},
       {"lo", vec(qp.lo)},
       {"hi", vec(qp.hi)},
       {"constant", qp.constant},

@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "data_files.hpp"
+#include "json_matrix.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/error_model.hpp"
 #include "tmpc/model/reference.hpp"
@@ -26,16 +27,6 @@ struct ModelOptions {
   int run = -1;
   bool json = false, matrices = false;
 };
-
-nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
-  nlohmann::json out = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    std::vector<double> row(static_cast<std::size_t>(m.cols()));
-    for (Eigen::Index k = 0; k < m.cols(); ++k) row[static_cast<std::size_t>(k)] = m(i, k);
-    out.push_back(row);
-  }
-  return out;
-}
 
 nlohmann::json eigen_json(const Eigen::VectorXcd& ev) {
   nlohmann::json out = nlohmann::json::array();
@@ -104,9 +95,9 @@ void run_model(const ModelOptions& opt) {
     if (opt.matrices) {
       // x(k+1) = A x(k) + B u(k) + D d(k): the augmented error model at sigma = 0 (physical
       // units; d the force on the load, N), with the box and the actuator limits.
-      j["matrices"] = {{"A", matrix_json(em.A)},
-                       {"B", matrix_json(em.B)},
-                       {"D", matrix_json(em.D)},
+      j["matrices"] = {{"A", json_rows(em.A)},
+                       {"B", json_rows(em.B)},
+                       {"D", json_rows(em.D)},
                        {"state_names", cfg.state_names()},
                        {"state_error_max", to_vec(cfg.state_error_max)},
                        {"measured", em.measured},

@@ -283,6 +283,31 @@ TEST(Mission, MonteCarloCampaignsAsTheReadmeStates) {
   EXPECT_NEAR(y.mean_a / y.mean_b, 1.10, 0.02);
 }
 
+/// A telemetry CSV as text: its header and its rows' fields.
+struct TelemetryCsv {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  /// The column's index, header.size() when there is none.
+  std::size_t column(const std::string& name) const {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  }
+};
+
+TelemetryCsv read_telemetry(const std::string& path) {
+  TelemetryCsv csv;
+  std::ifstream in(path);
+  auto fields = [](const std::string& line) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    return f;
+  };
+  std::string line;
+  if (std::getline(in, line)) csv.header = fields(line);
+  while (std::getline(in, line)) csv.rows.push_back(fields(line));
+  return csv;
+}
+
 // The box peaks in metrics.json (the issue-19 report's servo-rate peak): per state the
 // largest |x_i| / half-width over the flight, checked against the telemetry's true
 // errors and the configured bounds (config/tiltrotor.yaml: servo rates 0.2 rad/s,
@@ -295,31 +320,17 @@ TEST(Mission, TheBoxPeaksAreTheTelemetrysLargestErrorsOverTheirBounds) {
   const MissionMetrics m = run_mission(artifact(), test::shipped_scenario("sustained_force"), o);
   ASSERT_FALSE(m.diverged);
   ASSERT_GT(m.state_constraint_violations, 0);
-  std::ifstream in(o.telemetry_csv);
-  std::string line;
-  ASSERT_TRUE(std::getline(in, line));
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) header.push_back(c);
-  }
+  const TelemetryCsv csv = read_telemetry(o.telemetry_csv);
   const std::pair<const char*, double> checked[] = {{"d_alpha_r", 0.2}, {"d_alpha_l", 0.2}, {"d_z", 0.2}, {"phi", 0.5}};
   std::vector<std::size_t> col;
   for (const auto& c : checked) {
-    const auto it = std::find(header.begin(), header.end(), std::string("e_") + c.first);
-    ASSERT_NE(it, header.end()) << c.first;
-    col.push_back(static_cast<std::size_t>(it - header.begin()));
+    col.push_back(csv.column(std::string("e_") + c.first));
+    ASSERT_LT(col.back(), csv.header.size()) << c.first;
   }
   std::vector<double> peak(col.size(), 0.0);
-  long rows = 0;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+  for (const auto& f : csv.rows)
     for (std::size_t j = 0; j < col.size(); ++j) peak[j] = std::max(peak[j], std::abs(std::stod(f[col[j]])) / checked[j].second);
-    ++rows;
-  }
-  EXPECT_EQ(rows, m.periods);
+  EXPECT_EQ(static_cast<long>(csv.rows.size()), m.periods);
   const nlohmann::json j = nlohmann::json::parse(metrics_json(m));
   for (std::size_t k = 0; k < col.size(); ++k) {
     const double reported = j.at("box_peak_ratio").at(checked[k].first).get<double>();
@@ -344,26 +355,13 @@ TEST(Mission, TheLoadSettlesAtTheStaticTiltTheForceEnvelopeReports) {
   const MissionMetrics m = run_mission(artifact(), s, o);
   ASSERT_FALSE(m.diverged);
   EXPECT_EQ(m.state_constraint_violations, 0);
-  std::ifstream in(o.telemetry_csv);
-  std::string line;
-  ASSERT_TRUE(std::getline(in, line));
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) header.push_back(c);
-  }
-  auto column = [&](const char* name) {
-    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-  };
-  const std::size_t t = column("t"), e_phi = column("e_phi"), r_phi = column("r_phi"), e_theta = column("e_theta"),
-                    r_theta = column("r_theta");
-  ASSERT_LT(r_theta, header.size());
+  const TelemetryCsv csv = read_telemetry(o.telemetry_csv);
+  const std::size_t t = csv.column("t"), e_phi = csv.column("e_phi"), r_phi = csv.column("r_phi"),
+                    e_theta = csv.column("e_theta"), r_theta = csv.column("r_theta");
+  ASSERT_LT(r_theta, csv.header.size());
   double phi = 0.0, theta = 0.0;
   int n = 0;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+  for (const auto& f : csv.rows) {
     if (std::stod(f[t]) < 12.0) continue;
     phi += std::stod(f[e_phi]) + std::stod(f[r_phi]);
     theta += std::stod(f[e_theta]) + std::stod(f[r_theta]);
