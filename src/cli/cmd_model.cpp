@@ -44,7 +44,12 @@ void run_model(const ModelOptions& opt) {
   if (cfg.model != ModelKind::Tiltrotor) throw std::runtime_error(opt.config + ": `tmpc model` reports the tiltrotor's model");
   if (opt.run >= 0) {  // the vehicle of a Monte Carlo run: its equilibrium and error model
     if (opt.scenario.empty()) throw std::runtime_error("--run needs --scenario (its plant.random draws the vehicle)");
-    cfg.vehicle = load_scenario(data_file(opt.scenario)).plant_vehicle(cfg.vehicle, opt.run);
+    const Scenario sc = load_scenario(data_file(opt.scenario));
+    if (!(sc.plant.random.fraction > 0.0)) {
+      throw std::runtime_error("--run " + std::to_string(opt.run) + ": " + opt.scenario +
+                               " draws no vehicles (plant.random.fraction is 0)");
+    }
+    cfg.vehicle = sc.plant_vehicle(cfg.vehicle, opt.run);
   }
   if (opt.matrices && !opt.json) throw std::runtime_error("--matrices needs --json");
   const TiltrotorModel model(cfg.vehicle);
