@@ -182,7 +182,9 @@ elif check == "best-case":
         flown = max(json.load(open(os.path.join(out, "metrics.json")))["box_peak_ratio"].values())
         print(f"run {k}: flown peak {flown:.4f}")
         need(flown >= 0.99 * r["peak"], f"run {k}: flown {flown} below the best case {r['peak']}")
-        need(k != 1 or abs(flown - 1.051) < 0.005, f"run 1: flown peak {flown}, README states 1.05")
+        # Run 1: no violation where 0.89 is possible (1.05, a servo-rate spike, with the tube
+        # gain of lambda's input weights).
+        need(k != 1 or abs(flown - 0.912) < 0.005, f"run 1: flown peak {flown}, README states 0.91")
     # README's derived figures: the lightest load the 0.6 m/s bound allows after 1 N
     # (F / (m_L sqrt(g / l)) = 0.6); the chance that ten uniform +-30 % draws of the
     # 0.5 kg load hold a lighter one; and the nonlinear pendulum's swing against the

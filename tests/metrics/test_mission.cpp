@@ -77,8 +77,8 @@ TEST(Mission, OffsetFreeHelixWithTheThesisStepsAsTheReadmeStates) {
   EXPECT_EQ(m.state_constraint_violations, 0);
   EXPECT_EQ(m.fallback_periods, 0);
   expect_rmse(m, 0.0308, 0.0301, 0.0021);
-  expect_windows(m.tube_exits_per_step, {0, 135, 146, 88});
-  const double settle[] = {0.0, 1.64, 1.76, 1.07};
+  expect_windows(m.tube_exits_per_step, {0, 133, 146, 87});
+  const double settle[] = {0.0, 1.61, 1.76, 1.06};
   for (std::size_t w = 0; w < 4; ++w) EXPECT_NEAR(m.tube_settle_s_per_step[w], settle[w], 0.05) << "window " << w;
   // All three forces act at the end: the estimate reads the linear model's force at
   // the tilted trim (README: (1.23, 1.19, 0.91) N).
@@ -129,12 +129,12 @@ TEST(Mission, TheOtherSolversFlyTheOffsetFreeMissionAsTheReadmeStates) {
   o.solver = "admm-thesis";
   const MissionMetrics t = run_mission(artifact(), thesis(), o);
   print("offset-free admm-thesis", t);
-  expect_rmse(t, 0.0309, 0.0302, 0.0021);
+  expect_rmse(t, 0.0308, 0.0302, 0.0021);
   EXPECT_EQ(t.state_constraint_violations, 0);
   o.solver = "cz";
   const MissionMetrics c = run_mission(artifact(), thesis(), o);
   print("offset-free cz", c);
-  expect_rmse(c, 0.0309, 0.0301, 0.0024);
+  expect_rmse(c, 0.0308, 0.0301, 0.0024);
   EXPECT_EQ(c.state_constraint_violations, 0);
 }
 
@@ -145,7 +145,7 @@ TEST(Mission, MayneLawLeavesTheTubeForGoodAfterEachStepAsTheReadmeStates) {
   print("Mayne", m);
   EXPECT_FALSE(m.offset_free);
   EXPECT_EQ(m.state_constraint_violations, 0);
-  expect_rmse(m, 0.0263, 0.0271, 0.0384);
+  expect_rmse(m, 0.0267, 0.0272, 0.0384);
   expect_windows(m.tube_exits_per_step, {0, 1666, 1666, 1667});
   for (std::size_t w = 1; w < 4; ++w) EXPECT_GT(m.tube_settle_s_per_step[w], 19.9) << "window " << w;  // never back
 }
@@ -167,7 +167,7 @@ TEST(Mission, WithoutDisturbanceBothLawsTrackToAFifthOfAMillimetre) {
 }
 
 // README: --reinit re-centres the nominal on the measured error when admissible
-// (Mayne's law): the exits after the steps go, about 80 QPs after the steps are
+// (Mayne's law): the exits after the steps go, about 100 QPs after the steps are
 // infeasible and flown softened (the shipped soft constraints; no LQR fallback), two
 // periods leave the state box.
 TEST(Mission, ReinitTradesTheTubeExitsForInfeasibleQps) {
@@ -178,10 +178,10 @@ TEST(Mission, ReinitTradesTheTubeExitsForInfeasibleQps) {
   print("Mayne --reinit", m);
   std::printf("softened periods %ld\n", m.softened_periods);
   EXPECT_EQ(m.fallback_periods, 0);
-  EXPECT_NEAR(static_cast<double>(m.softened_periods), 82.0, 8.0);
+  EXPECT_NEAR(static_cast<double>(m.softened_periods), 100.0, 10.0);
   EXPECT_LE(m.tube_exits, 5);
   EXPECT_LE(m.state_constraint_violations, 2);
-  expect_rmse(m, 0.0258, 0.0267, 0.0384);
+  expect_rmse(m, 0.0256, 0.0267, 0.0383);
 }
 
 // README: the explicit law flies the 80 s helix mission with Mayne's law, no fallback.
@@ -202,7 +202,7 @@ TEST(Mission, TheExplicitLawFliesTheWholeMission) {
   EXPECT_EQ(m.periods, 6667);
   EXPECT_EQ(m.fallback_periods, 0);
   EXPECT_EQ(m.state_constraint_violations, 0);
-  expect_rmse(m, 0.0263, 0.0271, 0.0384);  // the same flight as Mayne's law with admm
+  expect_rmse(m, 0.0267, 0.0272, 0.0384);  // the same flight as Mayne's law with admm
 }
 
 // README "Tube law" table, Monte Carlo rows: masses and inertias +-10 %, 10 runs,
@@ -254,15 +254,15 @@ TEST(Mission, MonteCarloCampaignsAsTheReadmeStates) {
   expect_rel(of_rmse[0], 0.0316, 0.02, "offset-free RMSE x");
   expect_rel(of_rmse[1], 0.0307, 0.02, "offset-free RMSE y");
   expect_rel(of_rmse[2], 0.0030, 0.05, "offset-free RMSE z");
-  expect_rel(my_rmse[0], 0.0269, 0.02, "Mayne RMSE x");
-  expect_rel(my_rmse[1], 0.0280, 0.02, "Mayne RMSE y");
+  expect_rel(my_rmse[0], 0.0273, 0.02, "Mayne RMSE x");
+  expect_rel(my_rmse[1], 0.0281, 0.02, "Mayne RMSE y");
   expect_rel(my_rmse[2], 0.0559, 0.02, "Mayne RMSE z");
   EXPECT_EQ(of_violations, 0.0);
   expect_rel(my_violations, 314.1, 0.05, "Mayne violations a run");
   std::printf("offset-free softened periods in all: %.0f\n", of_softened);
-  EXPECT_EQ(of_fallbacks, 0.0);  // run 4's infeasible QP (certified at the first check) is flown softened
-  EXPECT_NEAR(of_softened, 7.0, 3.0);  // measured 7 periods in all
-  const double of_claim[] = {15.4, 137.2, 147.7, 98.6}, settle_claim[] = {0.20, 1.67, 1.78, 1.20};
+  EXPECT_EQ(of_fallbacks, 0.0);  // the infeasible QPs (certified at the first check) are flown softened
+  EXPECT_NEAR(of_softened, 27.0, 4.0);  // measured 27 periods in all
+  const double of_claim[] = {15.2, 134.0, 146.7, 96.5}, settle_claim[] = {0.20, 1.62, 1.77, 1.17};
   for (std::size_t w = 0; w < 4; ++w) {
     EXPECT_NEAR(of_exits[w], of_claim[w], 0.05 * of_claim[w] + 1.0) << "window " << w;
     EXPECT_NEAR(of_settle[w], settle_claim[w], 0.05) << "window " << w;
@@ -271,7 +271,7 @@ TEST(Mission, MonteCarloCampaignsAsTheReadmeStates) {
   // README "What it costs" (tmpc compare of the two campaigns, Welch's t-test).
   const WelchTest x = welch_t_test(of_xy[0], my_xy[0]), y = welch_t_test(of_xy[1], my_xy[1]);
   std::printf("offset-free / Mayne: RMSE x %.3f (p %.2g), y %.3f (p %.2g)", x.mean_a / x.mean_b, x.p, y.mean_a / y.mean_b, y.p);
-  const double tcv_claim[4] = {1.78, 1.47, 1.71, 1.75};
+  const double tcv_claim[4] = {1.77, 1.46, 1.89, 1.93};
   for (std::size_t i = 0; i < 4; ++i) {
     const WelchTest w = welch_t_test(of_tcv[i], my_tcv[i]);
     std::printf("; TCV %zu %.2f (p %.2g)", i, w.mean_a / w.mean_b, w.p);
@@ -279,8 +279,8 @@ TEST(Mission, MonteCarloCampaignsAsTheReadmeStates) {
     if (i < 2) EXPECT_LT(w.p, 1e-4) << "thrust TCV of input " << i;
   }
   std::printf("\n");
-  EXPECT_NEAR(x.mean_a / x.mean_b, 1.18, 0.02);
-  EXPECT_NEAR(y.mean_a / y.mean_b, 1.10, 0.02);
+  EXPECT_NEAR(x.mean_a / x.mean_b, 1.15, 0.02);
+  EXPECT_NEAR(y.mean_a / y.mean_b, 1.09, 0.02);
 }
 
 /// A telemetry CSV as text: its header and its rows' fields.

@@ -57,9 +57,10 @@ TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   const MissionMetrics gusts = fly("gusts");
   EXPECT_EQ(gusts.periods, 6667);
   expect_rmse(gusts, 0.0965, 0.1007, 0.0068);
-  // A servo rate, in one transient (9.35 when the recovery went back to the hard QP as
-  // soon as it was feasible: the jump at its feasibility boundary, controller_solver.hpp).
-  EXPECT_NEAR(gusts.violation_max_ratio, 4.70, 0.05 * 4.70);
+  // A servo rate, in one transient (4.70 with the tube gain of lambda's input weights;
+  // 9.35 with that gain when the recovery went back to the hard QP as soon as it was
+  // feasible: the jump at its feasibility boundary, controller_solver.hpp).
+  EXPECT_NEAR(gusts.violation_max_ratio, 2.82, 0.05 * 2.82);
   const std::size_t servo = static_cast<std::size_t>(
       std::find(gusts.box_names.begin(), gusts.box_names.end(), "d_alpha_l") - gusts.box_names.begin());
   ASSERT_LT(servo, gusts.box_peak_ratio.size());
@@ -68,19 +69,25 @@ TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   // QPs, and the two a numerical failure ended, are flown softened; no solve cycles
   // (a softened QP took 4000 steps when its slack curvature was 1e-8, parametric_qp.hpp).
   std::printf("gusts: softened %ld, largest iteration count %d\n", gusts.softened_periods, gusts.iterations_max);
-  expect_softened_flight(gusts, 746.0, 919.0);
+  expect_softened_flight(gusts, 745.0, 913.0);
   EXPECT_LT(gusts.iterations_max, 200);
   // A sustained 3 N from 10 s (every QP infeasible): the softened MPC flies to the end
   // (the LQR fallback for 5830 periods before soft constraints were shipped).
   const MissionMetrics held = fly("sustained_force");
-  expect_softened_flight(held, 5762.0, 5812.0);
-  EXPECT_LT(held.violation_max_ratio, 4.0);  // measured 3.3 (d_x)
+  expect_softened_flight(held, 5766.0, 5814.0);
+  EXPECT_LT(held.violation_max_ratio, 4.0);  // measured 3.24 (d_x)
+  // The raw measurement through the tube gain: the servo rates chatter past their bound
+  // in most periods (up to 4.1 times it), every QP solved; the flight goes on to the end
+  // (with the tube gain of lambda's input weights the servo rates ran away: aborted
+  // after 5826 periods, 5310 violations).
   const MissionMetrics noisy = fly("noisy_sensors");
   EXPECT_TRUE(noisy.noisy);
-  EXPECT_TRUE(noisy.diverged);  // the servo rates run away: the mission is aborted
-  EXPECT_NEAR(static_cast<double>(noisy.periods), 5826.0, 0.05 * 5826.0);
-  EXPECT_NEAR(static_cast<double>(noisy.state_constraint_violations), 5310.0, 0.05 * 5310.0);
-  EXPECT_EQ(noisy.fallback_periods, 0);  // the servo rates run away with every QP solved
+  EXPECT_FALSE(noisy.diverged);
+  EXPECT_EQ(noisy.periods, 6667);
+  EXPECT_NEAR(static_cast<double>(noisy.state_constraint_violations), 4955.0, 0.05 * 4955.0);
+  EXPECT_NEAR(noisy.violation_max_ratio, 4.14, 0.05 * 4.14);
+  expect_rmse(noisy, 0.0348, 0.0308, 0.0031);
+  EXPECT_EQ(noisy.fallback_periods, 0);
 }
 
 
@@ -257,13 +264,23 @@ TEST(Scenarios, WithoutVelocitySensorsTheFilterEstimatesThemAndTheNoiseIsFlown) 
 // The integral rows are judged on the controller's own integrators: the true integral
 // of the yaw error grows by 0.0087 rad a second (0.70 rad s after 80 s, past its 0.5
 // bound) whatever the law does. The noisy-sensor design flies the bias with the noise.
-TEST(Scenarios, ASensorBiasShiftsTheTrueErrorByTheBiasAndIsNotAViolation) {
+// The bias is there from the first measurement: the controller starts from a state
+// that looks 0.5 degree off, and the model's prediction of that state (a load swinging
+// back) is not what the sensors then read; the observer takes the difference for a
+// force. One period of that start passes a servo rate's bound by 7 % (0.06 s); none
+// after it.
+TEST(Scenarios, ASensorBiasShiftsTheTrueErrorByTheBias) {
   const Scenario biased = test::shipped_scenario("biased_sensors");
   ASSERT_DOUBLE_EQ(biased.noise.bias[1], 0.0087);
   const MissionMetrics m = fly("biased_sensors");
   EXPECT_FALSE(m.diverged);
   EXPECT_EQ(m.periods, 6667);
-  EXPECT_EQ(m.state_constraint_violations, 0);
+  EXPECT_EQ(m.state_constraint_violations, 1);
+  EXPECT_EQ(m.violation_worst_state, "d_alpha_r");
+  EXPECT_NEAR(m.violation_max_ratio, 1.066, 0.01);
+  MissionOptions start;
+  start.duration = 0.2;
+  EXPECT_EQ(run_mission(test::artifact(), biased, start).state_constraint_violations, 1);  // at the start
   EXPECT_EQ(m.fallback_periods, 0);
   expect_rmse(m, 0.0368, 0.0365, 0.0208);  // z: minus the bias (0.0021 without it)
   EXPECT_NEAR(m.rmse[5], 0.0087, 0.05 * 0.0087);  // psi: minus the bias (near zero without it)
@@ -335,26 +352,27 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
     EXPECT_NEAR(static_cast<double>(m.state_constraint_violations), violations, 0.1 * violations) << scale;
     EXPECT_NEAR(m.violation_max_ratio, peak, 0.05 * peak) << scale;
   }
-  // The shipped design (residual observer): the doubled noise aborts the flight at once.
+  // The shipped design (residual observer): the doubled noise puts a servo rate past its
+  // bound in most periods; the flight goes on (with the tube gain of lambda's input
+  // weights it was aborted at once, after 3 periods).
   const MissionMetrics raw = fly("noisy_sensors_x2");
-  EXPECT_TRUE(raw.diverged);
-  EXPECT_NEAR(static_cast<double>(raw.periods), 3.0, 2.0);
-  expect_softened_flight(fly("gusts_2n"), 1309.0, 1392.0);
+  EXPECT_FALSE(raw.diverged);
+  EXPECT_EQ(raw.periods, 6667);
+  EXPECT_NEAR(static_cast<double>(raw.state_constraint_violations), 5573.0, 0.05 * 5573.0);
+  EXPECT_EQ(raw.fallback_periods, 0);
+  expect_softened_flight(fly("gusts_2n"), 1307.0, 1399.0);
 }
 
 
 // README "Noisy sensors" (config/scenarios/gusts_only.yaml): the 1.5 N gusts without the
-// thesis' steps. Seeds 1 and 2 fly without a violation; seed 3 leaves the box by 0.3 %
-// (d_x) for 7 periods (84 ms) at 34 s, flown softened; never a fallback.
-TEST(Scenarios, TheGustsAloneAreHeldToTheBoxEdge) {
+// thesis' steps. Seeds 1, 2 and 3 (the file's) fly without a violation and without a
+// fallback (seed 3 left the box by 0.3 % (d_x) for 7 periods at 34 s with the tube gain
+// of lambda's input weights).
+TEST(Scenarios, TheGustsAloneAreFlownWithoutAViolation) {
   const Scenario gusts = test::shipped_scenario("gusts_only");
   ASSERT_EQ(gusts.disturbances.events().size(), 1u);
-  const MissionMetrics three = fly("gusts_only");
-  EXPECT_FALSE(three.diverged);
-  EXPECT_EQ(three.fallback_periods, 0);
-  EXPECT_NEAR(static_cast<double>(three.state_constraint_violations), 7.0, 3.0);
-  EXPECT_LT(three.violation_max_ratio, 1.01);
-  for (std::uint32_t seed : {1u, 2u}) {
+  ASSERT_EQ(gusts.disturbances.events()[0].seed, 3u);
+  for (std::uint32_t seed : {1u, 2u, 3u}) {
     Scenario s = gusts;
     std::vector<DisturbanceEvent> events = s.disturbances.events();
     events[0].seed = seed;
@@ -388,7 +406,7 @@ TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
 
 // README: masses and inertias +-30 % (config/scenarios/masses_30.yaml), the first three
 // of the ten Monte Carlo draws with each design (the shipped, the noisy-sensor and the
-// switched-observer one).
+// switched-observer one), and all ten with the shipped design.
 TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
   const Scenario sc = test::shipped_scenario("masses_30");
   auto fly_run = [&](const ControllerArtifact& a, int run) {
@@ -400,11 +418,18 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
                 m.state_constraint_violations, m.fallback_periods, m.softened_periods);
     return m;
   };
-  auto near = [](long got, long want) { EXPECT_NEAR(static_cast<double>(got), static_cast<double>(want), 0.1 * want + 2.0); };
+  // A count stated as 0 is asserted as 0; others to 10 % and 2 periods.
+  auto near = [](long got, long want) {
+    if (want == 0) {
+      EXPECT_EQ(got, 0);
+    } else {
+      EXPECT_NEAR(static_cast<double>(got), static_cast<double>(want), 0.1 * want + 2.0);
+    }
+  };
   // violations and fallback periods per run: the shipped design, the noisy-sensor one.
   // (before the shipped design had soft constraints: 0, 4, 42 violations, 0, 15, 91 fallbacks)
-  const long shipped_v[3] = {0, 1, 15}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 48, 63}, noisy_f[3] = {0, 0, 0};
-  const long shipped_s[3] = {0, 30, 92}, noisy_s[3] = {0, 0, 98};  // softened periods
+  const long shipped_v[3] = {0, 0, 12}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 48, 63}, noisy_f[3] = {0, 0, 0};
+  const long shipped_s[3] = {0, 33, 95}, noisy_s[3] = {0, 0, 102};  // softened periods
   const long switched_v[3] = {0, 0, 12};
   for (int run = 0; run < 3; ++run) {
     const MissionMetrics s = fly_run(test::artifact(), run), n = fly_run(test::noisy_artifact(), run);
@@ -419,6 +444,15 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
     near(w.state_constraint_violations, switched_v[run]);
     EXPECT_EQ(w.fallback_periods, 0);
     EXPECT_EQ(w.filtered_periods, 6);
+  }
+  // The target, zero violations in all ten runs with the default law, is
+  // impossible in runs 2 and 9 (their light loads swing past d_x's bound after the 1 N
+  // step whatever the vehicle does: cli.best-case); the shipped design violates in
+  // those two only.
+  for (int run = 3; run < 10; ++run) {
+    const MissionMetrics s = fly_run(test::artifact(), run);
+    near(s.state_constraint_violations, run == 9 ? 23 : 0);
+    EXPECT_EQ(s.fallback_periods, 0) << run;
   }
 }
 

@@ -52,6 +52,8 @@ TEST(Config, DefaultLoadsWithTheCaseStudyNumbers) {
   EXPECT_DOUBLE_EQ(c.state_error_max(18), 0.2);  // alpha_r rate
   EXPECT_DOUBLE_EQ(c.input_weights(2), 38.730);
   EXPECT_DOUBLE_EQ(c.state_weights(23), 0.158);
+  EXPECT_DOUBLE_EQ(c.synthesis.lqr_input_scale(1), 1.0);    // the tube gain's thrust weights: lambda's
+  EXPECT_DOUBLE_EQ(c.synthesis.lqr_input_scale(2), 100.0);  // its servo torques': 100 lambda
   EXPECT_EQ(c.model, ModelKind::Tiltrotor);
   EXPECT_EQ(c.states(), 24);
   EXPECT_EQ(c.measured(), 20);
@@ -324,7 +326,7 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   }
   expect_error(load_with("  penalty: 0\n", "  penalty: -2\n"), "soft_constraints.penalty", "out of range");
   expect_error(load_with("  enabled: true\n", "  enabled: yes\n"), "soft_constraints.enabled", "expected true or false");
-  expect_error(load_with("  tube_gain: lqr", "  tube_gain: lqr\n  lqr_input_scale: [1, 1, 0, 1]"),
+  expect_error(load_with("  lqr_input_scale: [1, 1, 100, 100]", "  lqr_input_scale: [1, 1, 0, 100]"),
                "synthesis.lqr_input_scale", "must be positive");
 }
 
