@@ -47,7 +47,9 @@ int run_check(const CheckOptions& o) {
       for (const ForceWindow& c : f.certified_reference_yaw) wy.push_back({c.start, c.end});
       j["forces"] = {{"message", f.message},           {"static_peak", f.static_peak},
                      {"static_peak_state", f.static_peak_state}, {"static_peak_time", f.static_peak_time},
-                     {"static_outside_s", f.static_outside},   {"certified_windows", w},
+                     {"static_outside_s", f.static_outside},   {"static_peak_best_yaw", f.static_peak_best_yaw},
+                     {"static_peak_best_yaw_time", f.static_peak_best_yaw_time},
+                     {"static_outside_best_yaw_s", f.static_outside_best_yaw}, {"certified_windows", w},
                      {"certified_windows_reference_yaw", wy}};
     }
     std::printf("%s\n", j.dump(2).c_str());

@@ -157,15 +157,22 @@ ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Traj
     range.hi[i] += step(i);
   }
 
-  // Static tilt: the rod along -F + m_L g e_z, seen in the reference's yaw.
+  // Static tilt: the rod along -F + m_L g e_z, seen in the reference's yaw, and in the
+  // best yaw within psi's bound of it.
   static const char* const angle_name[2] = {"phi", "theta"};
+  constexpr int kYaws = 2000;
   for (long k = 0; k <= periods; ++k) {
     const auto kk = static_cast<std::size_t>(k);
-    const Eigen::Vector3d n =
-        Eigen::AngleAxisd(-eta[kk](2), Eigen::Vector3d::UnitZ()) * (m_load * g * Eigen::Vector3d::UnitZ() - force[kk]);
-    if (!(n.z() > 0.0)) continue;  // the rod in compression: beyond this check
-    const double phi = -std::asin(n.y() / n.norm()), theta = std::atan2(n.x(), n.z());
-    const double ratio[2] = {std::abs(phi - eta[kk](0)) / bound[0], std::abs(theta - eta[kk](1)) / bound[1]};
+    const Eigen::Vector3d world = m_load * g * Eigen::Vector3d::UnitZ() - force[kk];
+    if (!(world.z() > 0.0)) continue;  // the rod in compression: beyond this check
+    auto ratios = [&](double psi, double* ratio) {
+      const Eigen::Vector3d n = Eigen::AngleAxisd(-psi, Eigen::Vector3d::UnitZ()) * world;
+      const double phi = -std::asin(n.y() / n.norm()), theta = std::atan2(n.x(), n.z());
+      ratio[0] = std::abs(phi - eta[kk](0)) / bound[0];
+      ratio[1] = std::abs(theta - eta[kk](1)) / bound[1];
+    };
+    double ratio[2];
+    ratios(eta[kk](2), ratio);
     for (int i = 0; i < 2; ++i) {
       if (ratio[i] > rep.static_peak) {
         rep.static_peak = ratio[i];
@@ -174,6 +181,17 @@ ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Traj
       }
     }
     if (std::max(ratio[0], ratio[1]) > 1.0) rep.static_outside += T;
+    double best = std::max(ratio[0], ratio[1]);
+    if (best <= std::min(1.0, rep.static_peak_best_yaw)) continue;  // the yaw cannot raise either figure
+    for (int j = 0; j <= kYaws; ++j) {
+      ratios(eta[kk](2) + bound[2] * (2.0 * j / kYaws - 1.0), ratio);
+      best = std::min(best, std::max(ratio[0], ratio[1]));
+    }
+    if (best > rep.static_peak_best_yaw) {
+      rep.static_peak_best_yaw = best;
+      rep.static_peak_best_yaw_time = static_cast<double>(k) * T;
+    }
+    if (best > 1.0) rep.static_outside_best_yaw += T;
   }
 
   // Certified windows: every 10th period, each length; then the earliest-ending disjoint ones.
@@ -209,7 +227,9 @@ ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Traj
 
   std::ostringstream os;
   os << "forces on the load: static tilt up to " << rep.static_peak << " of the " << rep.static_peak_state
-     << " bound (t = " << rep.static_peak_time << " s), outside the box for " << rep.static_outside << " s; ";
+     << " bound (t = " << rep.static_peak_time << " s), outside the box for " << rep.static_outside
+     << " s; at the best yaw within psi's bound up to " << rep.static_peak_best_yaw << " (t = "
+     << rep.static_peak_best_yaw_time << " s), outside for " << rep.static_outside_best_yaw << " s; ";
   auto windows = [&](const std::vector<ForceWindow>& w) {
     os << w.size() << " disjoint window(s)";
     if (!w.empty()) os << " (first " << w[0].start << " to " << w[0].end << " s)";

@@ -126,6 +126,9 @@ elif check == "preflight":
                        "--json").stdout)
     need(j["ok"] and len(j["forces"]["certified_windows"]) == 8 and j["forces"]["static_peak_state"] == "theta",
          f"4 N: {j}")
+    # The best yaw: 4 N stays outside the box even with the vehicle turned (README).
+    need(abs(j["forces"]["static_peak_best_yaw"] - 1.249) < 2e-3 and j["forces"]["static_outside_best_yaw_s"] > 69.9
+         and j["forces"]["static_peak_best_yaw"] <= j["forces"]["static_peak"], f"4 N, best yaw: {j}")
     p = run("check", "--controller", art, "--scenario", scenarios + "thesis_helix.yaml")
     need("\nforces on the load: static tilt up to 0.50" in p.stdout and "WARNING" not in p.stdout, f"helix: {p.stdout}")
     fast = os.path.join(scratch, "fast_eight.yaml")

@@ -6,7 +6,9 @@
 // with a the load's acceleration and F the force on it (thesis 2.2: eta = (phi, theta,
 // psi) is the load's attitude, xi its position).
 //  - Static tilt: with a = 0 the rod's attitude is fixed by F alone, e.g.
-//    phi = atan(F_y / (m_L g - F_z)) at psi = 0: no controller moves it.
+//    phi = atan(F_y / (m_L g - F_z)) at psi = 0: no controller moves it but by the
+//    yaw, which turns the split between phi and theta (reported at the reference yaw
+//    and at the best yaw within psi's bound).
 //  - Certified windows: over [t1, t2] the mean of m_L a is m_L (v(t2) - v(t1)) / T, and
 //    the state box bounds the load's velocity error, so the mean acceleration lies in
 //    [(dv_r - 2 dv_max) / T, (dv_r + 2 dv_max) / T]. Every r the box admits (phi, theta,
@@ -40,6 +42,14 @@ struct ForceEnvelopeReport {
   double static_peak_time = 0.0;  ///< s
   std::string static_peak_state;  ///< phi or theta
   double static_outside = 0.0;    ///< s of the flight with the static tilt outside the box
+  /// The same with the yaw anywhere within its bound of the reference (the vehicle
+  /// turned so that the tilt splits best between phi and theta): per period the
+  /// smallest larger-of-the-two ratio over the yaw (a grid of 2001 yaws: above the
+  /// exact minimum by at most 1e-3), and the time it stays above 1. A controller that
+  /// yaws cannot do better statically; below 1 the reference yaw is what costs.
+  double static_peak_best_yaw = 0.0;
+  double static_peak_best_yaw_time = 0.0;  ///< s
+  double static_outside_best_yaw = 0.0;    ///< s
   /// Disjoint windows, each certified to hold an instant with the rod outside the box
   /// for every controller (earliest first; at most one violation apiece is implied).
   std::vector<ForceWindow> certified;
