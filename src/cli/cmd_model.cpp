@@ -1,5 +1,5 @@
 // `tmpc model`: the equilibrium, u_r(0), eigenvalues of the nominal error model and
-// the LPV summary, as text or JSON with stable keys; `--run K` of a scenario's Monte
+// the LPV summary, as text or JSON with stable keys; `--run K [--seed S]` of a scenario's Monte
 // Carlo draw for its perturbed vehicle, `--matrices` the discrete model itself (for
 // analyses outside tmpc, e.g. scripts/best_case_peak.py).
 #include <cstdio>
@@ -25,6 +25,7 @@ namespace {
 struct ModelOptions {
   std::string config = "config/tiltrotor.yaml", scenario;
   int run = -1;
+  long seed = -1;
   bool json = false, matrices = false;
 };
 
@@ -42,6 +43,7 @@ std::vector<double> to_vec(const V& v) {
 void run_model(const ModelOptions& opt) {
   Config cfg = load_config(data_file(opt.config));
   if (cfg.model != ModelKind::Tiltrotor) throw std::runtime_error(opt.config + ": `tmpc model` reports the tiltrotor's model");
+  if (opt.seed >= 0 && opt.run < 0) throw std::runtime_error("--seed needs --run (the seed of its Monte Carlo draws)");
   if (opt.run >= 0) {  // the vehicle of a Monte Carlo run: its equilibrium and error model
     if (opt.scenario.empty()) throw std::runtime_error("--run needs --scenario (its plant.random draws the vehicle)");
     const Scenario sc = load_scenario(data_file(opt.scenario));
@@ -49,7 +51,7 @@ void run_model(const ModelOptions& opt) {
       throw std::runtime_error("--run " + std::to_string(opt.run) + ": " + opt.scenario +
                                " draws no vehicles (plant.random.fraction is 0)");
     }
-    cfg.vehicle = sc.plant_vehicle(cfg.vehicle, opt.run);
+    cfg.vehicle = sc.plant_vehicle(cfg.vehicle, opt.run, opt.seed);
   }
   if (opt.matrices && !opt.json) throw std::runtime_error("--matrices needs --json");
   const TiltrotorModel model(cfg.vehicle);
@@ -157,6 +159,8 @@ void register_model(CLI::App& app) {
   sub->add_option("--scenario", opt->scenario, "the feedforward at this scenario's start (default: hover)")
       ->check(CLI::ExistingFile);
   sub->add_option("--run", opt->run, "the vehicle of Monte Carlo run K of --scenario's plant.random")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--seed", opt->seed, "with --run: the Monte Carlo seed (default: the scenario's plant.random.seed)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("--json", opt->json, "print JSON with stable keys");
   sub->add_flag("--matrices", opt->matrices, "with --json: the discrete error model A, B, D, the box and the limits");
