@@ -11,12 +11,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "json_matrix.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/solvers/soft_penalty.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/design.hpp"
+#include "tmpc/synthesis/json_rows.hpp"
 
 namespace tmpc::cli {
 

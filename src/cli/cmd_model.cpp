@@ -12,11 +12,11 @@
 
 #include "commands.hpp"
 #include "data_files.hpp"
-#include "json_matrix.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/error_model.hpp"
 #include "tmpc/model/reference.hpp"
 #include "tmpc/sim/scenario.hpp"
+#include "tmpc/synthesis/json_rows.hpp"
 
 namespace tmpc::cli {
 

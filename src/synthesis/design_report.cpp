@@ -2,20 +2,12 @@
 #include <nlohmann/json.hpp>
 
 #include "tmpc/synthesis/design.hpp"
+#include "tmpc/synthesis/json_rows.hpp"
 
 namespace tmpc {
 
 namespace {
 
-nlohmann::json matrix(const Eigen::MatrixXd& m) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < m.rows(); ++i) {
-    std::vector<double> r(static_cast<std::size_t>(m.cols()));
-    for (Eigen::Index j = 0; j < m.cols(); ++j) r[static_cast<std::size_t>(j)] = m(i, j);
-    rows.push_back(r);
-  }
-  return rows;
-}
 nlohmann::json vec(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 nlohmann::json size(const SetSize& s) { return {{"one_norm_radius", s.one_norm_radius}, {"volume", s.volume}}; }
 /// A normalized box, with its physical equivalent (divided by the scaling).
@@ -61,7 +53,7 @@ std::string design_report_json(const ControllerDesign& d) {
   for (const GainDesign& g : d.gains) {
     nlohmann::json gj = {{"name", g.name}, {"available", g.available}, {"message", g.message}, {"seconds", g.seconds}};
     if (g.available) {
-      gj["K"] = matrix(g.K);
+      gj["K"] = json_rows(g.K);
       gj["spectral_radius"] = {{"nominal", g.vertex_spectral_radius.front()},
                                {"vertices", std::vector<double>(g.vertex_spectral_radius.begin() + 1, g.vertex_spectral_radius.end())}};
       gj["tube"] = {{"ok", g.tube_ok},
@@ -89,8 +81,8 @@ std::string design_report_json(const ControllerDesign& d) {
   j["gains"] = gains;
   const GainDesign& sel = d.gains[static_cast<std::size_t>(d.selected)];
   j["selected_gain"] = sel.name;
-  j["K"] = matrix(d.K);
-  j["K_lqr"] = matrix(d.K_lqr);
+  j["K"] = json_rows(d.K);
+  j["K_lqr"] = json_rows(d.K_lqr);
   j["spectral_radius"] = {{"nominal", sel.vertex_spectral_radius.front()},
                           {"vertices", std::vector<double>(sel.vertex_spectral_radius.begin() + 1, sel.vertex_spectral_radius.end())}};
   j["rpi"] = {{"variant", s.rpi_variant},

@@ -1,5 +1,5 @@
-// Dense matrices as JSON for the commands that print or write them (`tmpc model
-// --matrices`, `tmpc export-qp`): an array of rows, each an array of numbers.
+// Dense matrices as JSON: an array of rows, each an array of numbers (the design
+// report, `tmpc model --matrices`, `tmpc export-qp`).
 #pragma once
 
 #include <vector>
@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-namespace tmpc::cli {
+namespace tmpc {
 
 inline nlohmann::json json_rows(const Eigen::MatrixXd& m) {
   nlohmann::json rows = nlohmann::json::array();
@@ -19,4 +19,4 @@ inline nlohmann::json json_rows(const Eigen::MatrixXd& m) {
   return rows;
 }
 
-}  // namespace tmpc::cli
+}  // namespace tmpc
