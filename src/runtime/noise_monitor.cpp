@@ -47,20 +47,24 @@ NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const std::vector<int>& row
     }
     R(r) = sigma(static_cast<Eigen::Index>(j)) * sigma(static_cast<Eigen::Index>(j));
   }
-  // (cov dr)_ii = R_ii + sum_k (I + A)_ik^2 R_kk + sum_k A_ik^2 R_kk.
+  // The statistic's expectation for white noise of covariance R, per row:
+  //   E[dr_i(k) (dr_i(k) - dr_i(k-1))] = (cov dr)_ii - (lag dr)_ii,
+  //   cov dr = R + (I + A) R (I + A)' + A R A',  lag dr = E[dr(k) dr(k-1)'] = -(I + A) R - A R (I + A)'.
   const Eigen::MatrixXd IA = Eigen::MatrixXd::Identity(n, n) + A;
   inv_var_.resize(static_cast<Eigen::Index>(rows.size()));
   group_rows_.assign(4, 0);
   for (std::size_t j = 0; j < rows.size(); ++j) {
     const int r = rows[j];
-    const double v = R(r) + IA.row(r).cwiseAbs2().dot(R) + A.row(r).cwiseAbs2().dot(R);
-    inv_var_(static_cast<Eigen::Index>(j)) = 1.0 / v;
+    const double cov = R(r) + IA.row(r).cwiseAbs2().dot(R) + A.row(r).cwiseAbs2().dot(R);
+    const double lag = -IA(r, r) * R(r) - A.row(r).cwiseProduct(IA.row(r)).dot(R);
+    inv_var_(static_cast<Eigen::Index>(j)) = 1.0 / (cov - lag);
     const int g = static_cast<int>(group_of(kinds[static_cast<std::size_t>(r)]));
     group_.push_back(g);
     ++group_rows_[static_cast<std::size_t>(g)];
   }
   window_ = std::max<long>(1, std::lround(s_.window_s / dt));
   r_prev_ = Eigen::VectorXd::Zero(n);
+  d_prev_ = Eigen::VectorXd::Zero(n);
   calibrate(A, R);
 }
 
@@ -75,16 +79,22 @@ void NoiseMonitor::reset() {
   std::fill(std::begin(recent_next_), std::end(recent_next_), 0);
 }
 
-void NoiseMonitor::group_statistic(const Eigen::VectorXd& r, double (&stat)[4]) const {
+void NoiseMonitor::group_statistic(const Eigen::VectorXd& r, double (&stat)[4]) {
   double sum[4] = {0, 0, 0, 0};
   for (std::size_t j = 0; j < rows_.size(); ++j) {
-    const double d = r(rows_[j]) - r_prev_(rows_[j]);
-    sum[group_[j]] += d * d * inv_var_(static_cast<Eigen::Index>(j));
+    const int i = rows_[j];
+    const double d = r(i) - r_prev_(i);
+    sum[group_[j]] += d * (d - d_prev_(i)) * inv_var_(static_cast<Eigen::Index>(j));
+    d_prev_(i) = d;
   }
   for (int g = 0; g < 4; ++g) {
     const int rows = group_rows_[static_cast<std::size_t>(g)];
     stat[g] = rows > 0 ? sum[g] / rows : 0.0;
   }
+}
+
+void NoiseMonitor::store_difference(const Eigen::VectorXd& r) {
+  for (const int i : rows_) d_prev_(i) = r(i) - r_prev_(i);
 }
 
 double NoiseMonitor::robust(int g, double stat) {
@@ -114,11 +124,12 @@ void NoiseMonitor::calibrate(const Eigen::MatrixXd& A, const Eigen::VectorXd& R)
   const Eigen::VectorXd sd = R.cwiseSqrt();
   double mean[4] = {0, 0, 0, 0}, med[4] = {0, 0, 0, 0};
   constexpr long kSamples = 8000;
-  for (long k = 0; k < kSamples + 2; ++k) {
+  for (long k = 0; k < kSamples + 3; ++k) {
     for (Eigen::Index i = 0; i < n; ++i) v(i) = sd(i) * gauss(rng);
     r.noalias() = v - A * v_prev;
     v_prev = v;
-    if (k >= 2) {  // r_prev_ holds a residual of the noise
+    if (k == 2) store_difference(r);  // r_prev_ holds a residual of the noise
+    if (k >= 3) {                       // and d_prev_ its difference
       double stat[4];
       group_statistic(r, stat);
       for (int g = 0; g < 4; ++g) {
@@ -132,6 +143,7 @@ void NoiseMonitor::calibrate(const Eigen::MatrixXd& A, const Eigen::VectorXd& R)
   std::fill(std::begin(recent_count_), std::end(recent_count_), 0);
   std::fill(std::begin(recent_next_), std::end(recent_next_), 0);
   r_prev_.setZero();
+  d_prev_.setZero();
 }
 
 bool NoiseMonitor::update(const Eigen::VectorXd& r, bool valid) {
@@ -140,7 +152,9 @@ bool NoiseMonitor::update(const Eigen::VectorXd& r, bool valid) {
     chain_ = 0;
     return filter_;
   }
-  if (chain_ >= 1) {
+  if (chain_ == 1) {
+    store_difference(r);
+  } else if (chain_ >= 2) {
     double stat[4];
     group_statistic(r, stat);
     ++samples_;
@@ -163,7 +177,7 @@ bool NoiseMonitor::update(const Eigen::VectorXd& r, bool valid) {
     }
   }
   r_prev_ = r;
-  chain_ = 1;
+  chain_ = std::min(chain_ + 1, 2);
   return filter_;
 }
 
