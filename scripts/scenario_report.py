@@ -2,11 +2,13 @@
 """The noisy-sensor and disturbance report (issue 19): designs and flies every scenario.
 
 Usage: scripts/scenario_report.py [--tmpc build/tmpc] [--out out/report]
-                                  [--designs shipped,noisy,switched] [--scenarios a,b,...]
+                                  [--designs shipped,residual,noisy] [--scenarios a,b,...]
                                   [--runs 10] [--jobs 1] [--reuse]
 
-For each design (config/tiltrotor.yaml, config/tiltrotor_noisy.yaml,
-config/tiltrotor_switched.yaml) `tmpc design`, then `tmpc simulate` of each scenario
+For each design (shipped: config/tiltrotor.yaml, its switched observer; residual: the same
+artifact flown with `--observer residual`, the one-step residual observer alone; noisy:
+config/tiltrotor_noisy.yaml, the Kalman filter always) `tmpc design` (once per
+configuration), then `tmpc simulate` of each scenario
 (config/scenarios/NAME.yaml; masses_30 as a Monte Carlo campaign of --runs runs), and
 prints one markdown table row per flight with what the issue asks to report: RMSE x, y,
 z; the servo-rate peak (the larger of |d_alpha_r| and |d_alpha_l| over its bound,
@@ -25,10 +27,11 @@ import os
 import subprocess
 import sys
 
+# name: (configuration, observer override of `tmpc simulate` or None)
 DESIGNS = {
-    "shipped": "config/tiltrotor.yaml",
-    "noisy": "config/tiltrotor_noisy.yaml",
-    "switched": "config/tiltrotor_switched.yaml",
+    "shipped": ("config/tiltrotor.yaml", None),
+    "residual": ("config/tiltrotor.yaml", "residual"),
+    "noisy": ("config/tiltrotor_noisy.yaml", None),
 }
 SCENARIOS = ["thesis_helix", "noisy_sensors", "gusts", "sustained_force", "masses_30",
              "noisy_sensors_x2", "gusts_2n"]
@@ -48,11 +51,13 @@ def design(tmpc, config, out, reuse):
     return out
 
 
-def fly(tmpc, artifact, scenario, out, runs, reuse):
+def fly(tmpc, artifact, observer, scenario, out, runs, reuse):
     metrics = os.path.join(out, "metrics.json")
     if not (reuse and os.path.exists(metrics)):
         cmd = [tmpc, "simulate", "--controller", artifact, "--scenario",
                f"config/scenarios/{scenario}.yaml", "--out", out]
+        if observer:
+            cmd += ["--observer", observer]
         if scenario in CAMPAIGNS:
             cmd += ["--monte-carlo", str(runs)]
         run(cmd)
@@ -98,9 +103,12 @@ def main():
         if not os.path.exists(f"config/scenarios/{s}.yaml"):
             raise SystemExit(f"--scenarios: no config/scenarios/{s}.yaml")
     os.makedirs(o.out, exist_ok=True)
-    artifacts = {d: design(o.tmpc, DESIGNS[d], os.path.join(o.out, d + ".tmpc"), o.reuse) for d in designs}
+    configs = sorted({DESIGNS[d][0] for d in designs})
+    made = {c: design(o.tmpc, c, os.path.join(o.out, os.path.basename(c).replace(".yaml", ".tmpc")), o.reuse)
+            for c in configs}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, o.jobs)) as pool:
-        flights = {(d, s): pool.submit(fly, o.tmpc, artifacts[d], s, os.path.join(o.out, d, s), o.runs, o.reuse)
+        flights = {(d, s): pool.submit(fly, o.tmpc, made[DESIGNS[d][0]], DESIGNS[d][1], s,
+                                       os.path.join(o.out, d, s), o.runs, o.reuse)
                    for d in designs for s in scenarios}
         print("| design | scenario | RMSE x, y, z (m) | servo-rate peak (x bound) | largest state (x bound) | "
               "violations | softened periods, largest slack | fallbacks | solve us p50, p99, max | aborted |")

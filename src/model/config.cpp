@@ -306,7 +306,11 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     if (s.has("noise_bound_sigmas")) e.noise_bound_sigmas = s.number_in("noise_bound_sigmas", 0.5, 10.0);
     if (s.has("force_rate_bound")) e.force_rate_bound = s.number_in("force_rate_bound", 0.0, 1e3);
     if (s.has("residual_rate_bound")) e.residual_rate_bound = s.number_in("residual_rate_bound", 0.0, 1.0);
-    if (s.has("noise_monitor")) {
+    if (s.has("noise_monitor") && s.raw("noise_monitor").IsScalar()) {
+      // `noise_monitor: off` (a configuration based on one with a monitor): the filter alone.
+      s.text("noise_monitor", {"off"});
+      e.monitor_residual_below = e.monitor_filter_above = 0.0;
+    } else if (s.has("noise_monitor")) {
       Section m = s.section("noise_monitor");
       e.monitor_residual_below = m.number_in("residual_below", 1e-6, 1.0);
       e.monitor_filter_above = m.number_in("filter_above", e.monitor_residual_below, 1.0);

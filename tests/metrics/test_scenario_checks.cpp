@@ -35,7 +35,19 @@ TEST(Scenarios, AStartOffsetIsWhereThePlantStarts) {
   EXPECT_NEAR(m.max_abs_error[1], 0.05, 1e-3);
   EXPECT_EQ(m.state_constraint_violations, 0);
   EXPECT_EQ(m.fallback_periods, 0);
-  EXPECT_EQ(m.tube_exits, 0);  // the nominal starts at the first measured error
+  // The shipped switched observer starts on the Kalman filter, whose estimate starts at
+  // its prior (on the reference) and reaches the offset over a few periods: the true
+  // error is outside the tube around that estimate in 5 of the first check's 7
+  // periods, and never after it (the residual observer's law restarts the nominal at
+  // the measurement). The residual observer alone starts the nominal at the first
+  // measured error: no exit at all.
+  EXPECT_EQ(m.filtered_periods, 7);
+  EXPECT_EQ(m.tube_exits, 5);
+  o.duration = 0.084;  // the first check's 7 periods
+  EXPECT_EQ(run_mission(artifact(), s, o).tube_exits, 5);
+  o.duration = 6.0;
+  o.observer = "residual";
+  EXPECT_EQ(run_mission(artifact(), s, o).tube_exits, 0);
 }
 
 // README "A second system": designed from config/mass_spring.yaml and flown by the

@@ -275,20 +275,36 @@ TEST(Config, ABaseConfigurationIsMergedKeyByKey) {
 
 TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   const Config& c = test::default_config();
-  EXPECT_EQ(c.estimation.observer, "residual");  // the shipped design: no section
-  EXPECT_TRUE(c.soft_constraints.enabled);        // the shipped design softens an infeasible QP
+  EXPECT_EQ(c.estimation.observer, "kalman");  // the shipped design: the switched observer
+  EXPECT_DOUBLE_EQ(c.estimation.monitor_residual_below, 0.025);
+  EXPECT_DOUBLE_EQ(c.estimation.monitor_filter_above, 0.05);
+  EXPECT_DOUBLE_EQ(c.estimation.noise[0], 0.005);
+  EXPECT_DOUBLE_EQ(c.estimation.noise[1], 0.00524);
+  EXPECT_TRUE(c.soft_constraints.enabled);  // the shipped design softens an infeasible QP
   const Config n = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor_noisy.yaml");
   EXPECT_EQ(n.estimation.observer, "kalman");
+  EXPECT_DOUBLE_EQ(n.estimation.monitor_residual_below, 0.0);  // noise_monitor: off: the filter always
   EXPECT_DOUBLE_EQ(n.estimation.noise[0], 0.005);
-  EXPECT_DOUBLE_EQ(n.estimation.noise[1], 0.00524);
   EXPECT_TRUE(n.soft_constraints.enabled);
   EXPECT_DOUBLE_EQ(n.synthesis.lqr_input_scale(3), 100.0);
+  // The shipped configuration without its estimation section (the residual observer):
+  // the section below is appended to it.
+  std::string plain = default_text();
+  {
+    const std::size_t a = plain.find("\nestimation:");
+    ASSERT_NE(a, std::string::npos);
+    std::size_t b = a + 1;
+    do b = plain.find('\n', b) + 1;
+    while (b < plain.size() && (plain[b] == ' ' || plain[b] == '#' || plain[b] == '\n'));
+    plain.erase(a + 1, b - a - 1);
+  }
+  EXPECT_EQ(load_config_from_string(plain, "plain.yaml").estimation.observer, "residual");  // no section
   const std::string est =
       "\nestimation:\n  observer: kalman\n  measured: all\n  measurement_noise: {position: 0.005, angle: 0.005, "
       "velocity: 0.03, angular_rate: 0.03}\n  process_noise: {state_fraction: 3.0e-5, force: 0.02, residual: 1.0e-4}\n";
   auto with = [&](const std::string& section) {
     try {
-      load_config_from_string(default_text() + section, "bad.yaml");
+      load_config_from_string(plain + section, "bad.yaml");
     } catch (const ConfigError& e) {
       return std::string(e.what());
     }
@@ -306,10 +322,8 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   std::string residual_monitor = est + "  noise_monitor: {residual_below: 0.02, filter_above: 0.05}\n";
   residual_monitor.replace(residual_monitor.find("observer: kalman"), 16, "observer: residual");
   expect_error(with(residual_monitor), "estimation.noise_monitor", "needs observer: kalman");
-  const Config sw = load_config(std::string(TMPC_SOURCE_DIR) + "/config/tiltrotor_switched.yaml");
-  EXPECT_EQ(sw.estimation.observer, "kalman");
-  EXPECT_DOUBLE_EQ(sw.estimation.monitor_residual_below, 0.025);
-  EXPECT_DOUBLE_EQ(sw.estimation.monitor_filter_above, 0.05);
+  EXPECT_EQ(with(est + "  noise_monitor: off\n"), "");
+  expect_error(with(est + "  noise_monitor: on\n"), "estimation.noise_monitor", "unknown value 'on'");
   std::string bad = est;
   bad.replace(bad.find("observer: kalman"), 16, "observer: luenberger");
   expect_error(with(bad), "estimation.observer", "unknown value 'luenberger'");
@@ -319,7 +333,7 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   std::string mayne = default_text();
   mayne.replace(mayne.find("offset_free: true"), 17, "offset_free: false");
   try {
-    load_config_from_string(mayne + est, "bad.yaml");
+    load_config_from_string(mayne, "bad.yaml");  // the shipped Kalman filter with Mayne's law
     ADD_FAILURE() << "a Kalman filter without the offset-free law loaded";
   } catch (const ConfigError& e) {
     expect_error(e.what(), "estimation.observer", "needs tube_law.offset_free: true");

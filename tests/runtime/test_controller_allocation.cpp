@@ -66,7 +66,7 @@ TEST(ControllerLoopAllocation, NoAllocationPerPeriodOffsetFreeLaw) { expect_no_a
 // appears (period 200).
 TEST(ControllerLoopAllocation, NoAllocationPerPeriodSwitchedObserver) {
   if (!test::kCountsAllocations) GTEST_SKIP() << "allocations are not counted under the sanitizer";
-  const ControllerArtifact& a = test::switched_artifact();
+  const ControllerArtifact& a = test::quick_artifact();
   TubeController ctrl(a, make_solver("admm", a.qp(true)), tube_law_options(a));
   Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n), noise(a.n), u_n(a.m);
   const Eigen::VectorXd u_r = a.u_eq;

@@ -144,7 +144,7 @@ TEST(TubeController, TheKalmanFilterReadsTheForceThroughNoiseTheResidualObserver
   EXPECT_LT(kf_error, 0.1);
   EXPECT_LT(kf_jitter, 0.05);  // measured 0.033 N; the residual observer 0.94 N
   EXPECT_GT(res_jitter, 10.0 * kf_jitter);
-  EXPECT_THROW(tube_law_options(artifact(), "", 0.0, "kalman"), std::invalid_argument);  // no filter in that design
+  EXPECT_THROW(tube_law_options(test::mass_spring_artifact(), "", 0.0, "kalman"), std::invalid_argument);  // no filter in that design
 }
 
 TEST(TubeController, TheKalmanFilterStartsFromItsPriorNotFromTheFirstNoisyMeasurement) {
@@ -178,7 +178,7 @@ TEST(TubeController, TheKalmanFilterStartsFromItsPriorNotFromTheFirstNoisyMeasur
   }
 }
 
-// The switched observer (config/tiltrotor_switched.yaml) on the exact linear model with
+// The switched observer (the shipped config/tiltrotor.yaml) on the exact linear model with
 // a constant force and a constant sensor bias (2 cm, 0.5 degree): the noisy-sensor noise
 // for 1.8 s, clean measurements for 10 s, the noise again. The filter flies from the
 // start; the monitor hands the law to the residual observer once its average has
@@ -186,12 +186,12 @@ TEST(TubeController, TheKalmanFilterStartsFromItsPriorNotFromTheFirstNoisyMeasur
 // applied input moves smoothly through the hand-over (the blend), although the two
 // observers read the biased sensors differently, and both read the force.
 TEST(TubeController, TheSwitchedObserverHandsOverOnCleanSensorsAndBackWhenNoiseAppears) {
-  const ControllerArtifact& a = test::switched_artifact();
+  const ControllerArtifact& a = test::quick_artifact();
   const TubeControllerOptions o = tube_law_options(a);
   ASSERT_EQ(o.observer, "switched");  // the artifact's default
   EXPECT_EQ(tube_law_options(a, "", 0.0, "kalman").observer, "kalman");
   EXPECT_THROW(tube_law_options(test::noisy_artifact(), "", 0.0, "switched"), std::invalid_argument);  // no monitor
-  EXPECT_THROW(tube_law_options(test::quick_artifact(), "", 0.0, "switched"), std::invalid_argument);  // no filter
+  EXPECT_THROW(tube_law_options(test::mass_spring_artifact(), "", 0.0, "switched"), std::invalid_argument);  // no filter
   TubeController ctrl(a, make_solver("admm", a.qp(true)), o);
   const Eigen::Vector3d d(0.6, -0.4, 0.5);
   const double sigma[4] = {0.005, 0.00524, 0.031, 0.033};
@@ -259,7 +259,7 @@ TEST(TubeController, AnInputRateWeightSmoothsTheNominalInputAgainstNoise) {
   auto fly = [&](double weight) {
     ControllerArtifact a = artifact();
     a.Sigma_delta = weight * a.Sigma_lambda;
-    TubeControllerOptions o = tube_law_options(a, "offset-free");
+    TubeControllerOptions o = tube_law_options(a, "offset-free", 0.0, "residual");  // the noise into the estimate
     TubeController ctrl(a, make_controller_solver("active-set", a, SolverOptions{}, "", true), o);
     std::mt19937_64 rng(3);
     std::normal_distribution<double> normal;

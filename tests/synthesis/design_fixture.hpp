@@ -135,18 +135,10 @@ inline ControllerArtifact quick_shipped_artifact(const std::string& name, const 
   });
 }
 
-/// The noisy-sensor design (config/tiltrotor_noisy.yaml: Kalman filter, softer tube
-/// gain, soft constraints).
+/// The noisy-sensor design (config/tiltrotor_noisy.yaml: the shipped design with the
+/// Kalman filter always, no noise monitor, and input-rate weights).
 inline const ControllerArtifact& noisy_artifact() {
   static const ControllerArtifact a = quick_shipped_artifact("tiltrotor_noisy", "noisy");
-  return a;
-}
-
-/// The switched-observer design (config/tiltrotor_switched.yaml: the noisy-sensor design
-/// without input-rate weights, its filter and the residual observer chosen by a noise
-/// monitor).
-inline const ControllerArtifact& switched_artifact() {
-  static const ControllerArtifact a = quick_shipped_artifact("tiltrotor_switched", "switched");
   return a;
 }
 
@@ -157,7 +149,8 @@ inline const ControllerArtifact& noisy_tube_artifact() {
   return a;
 }
 
-/// The quick design's artifact (quick_config()), cached in the build tree.
+/// The quick design's artifact (quick_config()), cached in the build tree: the shipped
+/// design (config/tiltrotor.yaml, the switched observer).
 inline const ControllerArtifact& quick_artifact() {
   static const ControllerArtifact a = cached_artifact("quick", default_config_text(), [] {
     ControllerArtifact made = make_artifact(quick_design());

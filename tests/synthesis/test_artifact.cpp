@@ -295,7 +295,7 @@ TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) 
   a = back;
   a.estimator_monitor << 0.02, 0.05, 1.0;  // valid, but not what the embedded configuration gives
   EXPECT_NE(check_error(a).find("estimation.noise_monitor.residual_below"), std::string::npos) << check_error(a);
-  const ControllerArtifact& s = test::switched_artifact();
+  const ControllerArtifact& s = test::quick_artifact();
   const ControllerArtifact sb = deserialize_artifact(serialize_artifact(s), "s.tmpc");
   EXPECT_TRUE(sb.switched_observer());
   EXPECT_EQ(sb.estimator_monitor, Eigen::Vector3d(0.025, 0.05, 1.0));
