@@ -73,7 +73,6 @@ art=build-arm64/artifacts
 mkdir -p "$art"
 cp "$(ls -t build/tests/quick@*.tmpc | head -1)" "$art/quick.tmpc"
 cp "$(ls -t build/tests/noisy@*.tmpc | head -1)" "$art/noisy.tmpc"
-cp "$(ls -t build/tests/switched@*.tmpc | head -1)" "$art/switched.tmpc"
 
 # The executables run on the multiarch arm64 runtime (libc6:arm64 and friends in
 # /lib/aarch64-linux-gnu, as on a board), not on the cross toolchain's own copy in
