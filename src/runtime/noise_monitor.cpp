@@ -51,13 +51,13 @@ NoiseMonitor::NoiseMonitor(const Eigen::MatrixXd& A, const std::vector<int>& row
   //   E[dr_i(k) (dr_i(k) - dr_i(k-1))] = (cov dr)_ii - (lag dr)_ii,
   //   cov dr = R + (I + A) R (I + A)' + A R A',  lag dr = E[dr(k) dr(k-1)'] = -(I + A) R - A R (I + A)'.
   const Eigen::MatrixXd IA = Eigen::MatrixXd::Identity(n, n) + A;
-  inv_var_.resize(static_cast<Eigen::Index>(rows.size()));
+  inv_mean_.resize(static_cast<Eigen::Index>(rows.size()));
   group_rows_.assign(4, 0);
   for (std::size_t j = 0; j < rows.size(); ++j) {
     const int r = rows[j];
     const double cov = R(r) + IA.row(r).cwiseAbs2().dot(R) + A.row(r).cwiseAbs2().dot(R);
     const double lag = -IA(r, r) * R(r) - A.row(r).cwiseProduct(IA.row(r)).dot(R);
-    inv_var_(static_cast<Eigen::Index>(j)) = 1.0 / (cov - lag);
+    inv_mean_(static_cast<Eigen::Index>(j)) = 1.0 / (cov - lag);
     const int g = static_cast<int>(group_of(kinds[static_cast<std::size_t>(r)]));
     group_.push_back(g);
     ++group_rows_[static_cast<std::size_t>(g)];
@@ -84,7 +84,7 @@ void NoiseMonitor::group_statistic(const Eigen::VectorXd& r, double (&stat)[4]) 
   for (std::size_t j = 0; j < rows_.size(); ++j) {
     const int i = rows_[j];
     const double d = r(i) - r_prev_(i);
-    sum[group_[j]] += d * (d - d_prev_(i)) * inv_var_(static_cast<Eigen::Index>(j));
+    sum[group_[j]] += d * (d - d_prev_(i)) * inv_mean_(static_cast<Eigen::Index>(j));
     d_prev_(i) = d;
   }
   for (int g = 0; g < 4; ++g) {

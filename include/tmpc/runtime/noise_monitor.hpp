@@ -96,7 +96,7 @@ class NoiseMonitor {
   double robust(int g, double stat);
   void calibrate(const Eigen::MatrixXd& A, const Eigen::VectorXd& R);
   std::vector<int> rows_, group_;
-  Eigen::VectorXd inv_var_;  ///< 1 / ((cov dr)_ii - (lag dr)_ii) on rows_
+  Eigen::VectorXd inv_mean_;  ///< 1 / ((cov dr)_ii - (lag dr)_ii) on rows_
   std::vector<int> group_rows_;  ///< rows per group (4 groups)
   NoiseMonitorSettings s_;
   long window_ = 1;
