@@ -442,6 +442,117 @@ TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
   EXPECT_GT(switched.filtered_periods, 7);
 }
 
+// README "Noisy sensors", noise the design was not told about: the issue's own probes
+// (0.1 degree on the angles alone: 2723 servo-rate violations before the filter; 1 cm and
+// 0.5 degree: the mission aborted), a gyro alone (0.05 rad/s) and three times the noisy
+// scenario's noise (15 mm, 0.9 degree). The shipped design's noise monitor reads each as
+// noise (its level against the design's: the largest state group's) and keeps the
+// filter: no abort, and violations only at three times the noise, where the residual
+// observer alone loses the flight.
+TEST(Scenarios, NoiseOnOneSensorOrBeyondTheDesignsIsReadAndFlown) {
+  struct Probe {
+    const char* what;
+    std::array<double, 4> white;  // position m, angle rad, velocity m/s, rate rad/s
+    double violations, level;
+  };
+  const Probe probes[] = {
+      {"0.1 deg on the angles alone", {0.0, 0.001745, 0.0, 0.0}, 0.0, 0.407},
+      {"1 cm and 0.5 deg", {0.01, 0.00873, 0.0, 0.0}, 0.0, 2.669},
+      {"a gyro alone, 0.05 rad/s", {0.0, 0.0, 0.0, 0.05}, 0.0, 1.519},
+      {"three times the noisy scenario's", {0.015, 0.01572, 0.093, 0.099}, 213.0, 4.419},
+  };
+  for (const Probe& p : probes) {
+    Scenario sc = test::shipped_scenario("noisy_sensors");
+    sc.noise.white = p.white;
+    const MissionMetrics m = run_mission(test::artifact(), sc, MissionOptions{});
+    std::printf("%s: violations %ld (worst %s %.2f), filter %ld of %ld periods, level max %.3f, RMSE %.4f %.4f %.4f%s\n",
+                p.what, m.state_constraint_violations, m.violation_worst_state.c_str(), m.violation_max_ratio,
+                m.filtered_periods, m.periods, m.noise_level_max, m.rmse[0], m.rmse[1], m.rmse[2],
+                m.diverged ? ", DIVERGED" : "");
+    EXPECT_FALSE(m.diverged) << p.what;
+    EXPECT_EQ(m.fallback_periods, 0) << p.what;
+    EXPECT_EQ(m.filtered_periods, m.periods) << p.what;  // read as noise from the first check on
+    EXPECT_NEAR(m.noise_level_max, p.level, 0.05 * p.level) << p.what;
+    EXPECT_NEAR(static_cast<double>(m.state_constraint_violations), p.violations, 0.05 * p.violations) << p.what;
+    if (p.white[0] == 0.015) {
+      MissionOptions residual;
+      residual.observer = "residual";
+      const MissionMetrics raw = run_mission(test::artifact(), sc, residual);
+      std::printf("  residual observer alone: violations %ld, diverged %d after %ld periods\n",
+                  raw.state_constraint_violations, raw.diverged, raw.periods);
+      EXPECT_TRUE(raw.diverged);
+      EXPECT_NEAR(static_cast<double>(raw.periods), 968.0, 50.0);  // 11.6 s
+    }
+  }
+}
+
+// README "Noisy sensors": the noisy scenario's noise (5 mm, 0.3 degree, seed 4) on the
+// other shipped tracks, flown by the shipped design: read as noise from the first check,
+// no violation.
+TEST(Scenarios, TheShippedDesignFliesTheNoiseOnTheOtherTracks) {
+  const NoiseSpec noise = test::shipped_scenario("noisy_sensors").noise;
+  const struct {
+    const char* name;
+    double x, y, z;
+  } tracks[] = {{"figure_eight", 0.0346, 0.0282, 0.0094}, {"waypoints", 0.0287, 0.0274, 0.0053}, {"lissajous_csv", 0.0363, 0.0117, 0.0050}};
+  for (const auto& t : tracks) {
+    Scenario sc = test::shipped_scenario(t.name);
+    sc.noise = noise;
+    const MissionMetrics m = run_mission(test::artifact(), sc, MissionOptions{});
+    std::printf("%s with the noise: violations %ld, fallbacks %ld, filter %ld of %ld periods, RMSE %.4f %.4f %.4f\n",
+                t.name, m.state_constraint_violations, m.fallback_periods, m.filtered_periods, m.periods, m.rmse[0],
+                m.rmse[1], m.rmse[2]);
+    EXPECT_FALSE(m.diverged) << t.name;
+    EXPECT_EQ(m.state_constraint_violations, 0) << t.name;
+    EXPECT_EQ(m.fallback_periods, 0) << t.name;
+    EXPECT_EQ(m.filtered_periods, m.periods) << t.name;
+    expect_rmse(m, t.x, t.y, t.z);
+  }
+}
+
+// README "Noisy sensors", forces between the gusts and the 4 N abort: a sustained force
+// on the load from 10 s (the helix, no steps) along x or y. At 2.5 N the violations end
+// 2.8 s (x) and 1.6 s (y) after the step, the load's swing to its static tilt, inside
+// the box (telemetry's in_state_box); 3.5 N is past the envelope
+// (3 N: sustained_force) and flown to the end on the softened MPC, no LQR period. Along
+// x at 3.5 N the thrusts chatter between the rotors at their 30 N bound for a few
+// periods after the step, which the noise monitor reads as noise (4 times the design's):
+// the filter flies 10.6 s, its force estimate swinging in z (z RMSE 0.074 m, 0.008 with
+// the residual observer alone) - the monitor's known confusion past the envelope.
+TEST(Scenarios, SustainedForcesUpToThreeAndAHalfNewtonsAreFlownToTheEnd) {
+  struct Case {
+    double force;
+    int axis;
+    double violations, softened;
+  };
+  const Case cases[] = {{2.5, 0, 197, 209}, {2.5, 1, 123, 128}, {3.5, 0, 5795, 5831}, {3.5, 1, 5819, 5820}};
+  for (const Case& c : cases) {
+    Scenario sc = test::shipped_scenario("sustained_force");
+    DisturbanceEvent e;
+    e.start = 10.0;
+    e.force(c.axis) = c.force;
+    sc.disturbances = DisturbanceProfile({e});
+    const MissionMetrics m = run_mission(test::artifact(), sc, MissionOptions{});
+    std::printf("%.1f N along %c: violations %ld, softened %ld, fallbacks %ld, filter %ld periods (level max %.3f), "
+                "RMSE %.4f %.4f %.4f%s\n",
+                c.force, "xy"[c.axis], m.state_constraint_violations, m.softened_periods, m.fallback_periods,
+                m.filtered_periods, m.noise_level_max, m.rmse[0], m.rmse[1], m.rmse[2], m.diverged ? ", DIVERGED" : "");
+    expect_softened_flight(m, c.violations, c.softened);
+    if (c.force == 3.5 && c.axis == 0) {
+      EXPECT_NEAR(static_cast<double>(m.filtered_periods), 881.0, 0.05 * 881.0);
+      EXPECT_NEAR(m.rmse[2], 0.074, 0.05 * 0.074);
+      MissionOptions residual;
+      residual.observer = "residual";
+      const MissionMetrics raw = run_mission(test::artifact(), sc, residual);
+      std::printf("  residual observer alone: violations %ld, RMSE z %.4f\n", raw.state_constraint_violations, raw.rmse[2]);
+      EXPECT_FALSE(raw.diverged);
+      EXPECT_NEAR(raw.rmse[2], 0.0082, 0.05 * 0.0082);
+    } else {
+      EXPECT_EQ(m.filtered_periods, 7);  // the first check only
+    }
+  }
+}
+
 // README: masses and inertias +-30 % (config/scenarios/masses_30.yaml), the first three
 // of the ten Monte Carlo draws with each design (the shipped one, its switched observer
 // on the residual observer after the first check, and the noisy-sensor one), and all
