@@ -131,6 +131,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   v_prev_.setZero();
   x_s_.setZero();
   have_prev_ = false;
+  prev_off_law_ = false;
   if (solver_) solver_->reset();
 }
 
@@ -153,7 +154,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     resid_.noalias() -= a_.B * u_prev_n_;
   }
   // The switched observer: which estimate flies this period (the filter's at the start).
-  const bool filter = kalman_ && (!monitor_ || monitor_->update(resid_, have_resid));
+  const bool filter = kalman_ && (!monitor_ || monitor_->update(resid_, have_resid && !prev_off_law_));
   out_.filtered = filter;
   out_.noise_level = monitor_ ? monitor_->level() : 0.0;
   if (!kalman_) {
@@ -295,6 +296,7 @@ const ControlStep& TubeController::finish(const Eigen::VectorXd& u_r, const Solv
   // The input the plant gets, in normalized error coordinates, for the observer.
   u_prev_n_ = (out_.u - u_r).cwiseProduct(a_.N_u);
   have_prev_ = out_.u.allFinite() && x_n_.allFinite();
+  prev_off_law_ = out_.softened || out_.fallback;
   return out_;
 }
 

@@ -244,6 +244,46 @@ TEST(TubeController, TheSwitchedObserverHandsOverOnCleanSensorsAndBackWhenNoiseA
   for (int k = back; k < end; ++k) EXPECT_TRUE(filtered[static_cast<std::size_t>(k)]) << k;
 }
 
+// The switched observer's monitor skips a residual whose input came from the LQR
+// fallback or the softened QP (tube_controller.hpp): past what the hard law holds the
+// inputs jump and the model's mismatch reads like noise. On the exact linear model:
+// clean sensors hand the law to the residual observer at the first check; noise that
+// starts while the optimizer is late every period (the fallback flies) leaves the
+// choice alone; once the hard law flies again the filter is back within the few
+// periods the monitor's difference chain and median need.
+TEST(TubeController, TheNoiseMonitorSkipsPeriodsFlownByTheFallback) {
+  const ControllerArtifact& a = test::quick_artifact();
+  TubeController ctrl(a, make_solver("admm", a.qp(true)), tube_law_options(a));
+  const double sigma[4] = {0.005, 0.00524, 0.031, 0.033};
+  std::mt19937_64 rng(8);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n);
+  ctrl.reset(x);
+  const int noise = 200, late_until = 400, end = 500;
+  std::vector<bool> filtered, fallback;
+  for (int k = 0; k < end; ++k) {
+    meas = x;
+    for (int i = 0; k >= noise && i < a.measured; ++i) {
+      meas(i) += a.N_x(i) * sigma[static_cast<int>(group_of(a.kinds[static_cast<std::size_t>(i)]))] * normal(rng);
+    }
+    const bool in_time = k < noise || k >= late_until;
+    const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq, in_time);
+    filtered.push_back(s.filtered);
+    fallback.push_back(s.fallback);
+    x = a.A * x + a.B * (s.u - a.u_eq).cwiseProduct(a.N_u);
+  }
+  for (int k = 7; k < late_until; ++k) {
+    EXPECT_FALSE(filtered[static_cast<std::size_t>(k)]) << k;
+    EXPECT_EQ(fallback[static_cast<std::size_t>(k)], k >= noise) << k;
+  }
+  int back = late_until;
+  while (back < end && !filtered[static_cast<std::size_t>(back)]) ++back;
+  std::printf("the filter back %d periods after the hard law flies again\n", back - late_until);
+  EXPECT_LE(back - late_until, 6);  // one skipped, a residual, a difference, the median's 3 statistics
+  EXPECT_GE(back - late_until, 5);
+  for (int k = back; k < end; ++k) EXPECT_TRUE(filtered[static_cast<std::size_t>(k)]) << k;
+}
+
 // The input-rate weight (weights.input_rate, qp/mpc_qp.hpp) on the noisy exact linear
 // model with a constant force (the residual observer: its force estimate is the
 // measurement noise differentiated, the nominal input follows it): the period-to-period

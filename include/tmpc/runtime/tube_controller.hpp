@@ -36,7 +36,13 @@
 // kBlendToResidual_s; an abrupt switch jumped the steady-state input by the estimates'
 // difference (a sensor bias reads differently in the two) and kicked a servo rate past
 // its bound. The nominal state is not reset; while the residual observer flies alone,
-// the filter's integral states follow the measured ones.
+// the filter's integral states follow the measured ones. The monitor skips a period
+// whose residual carries an input of the softened QP or the LQR fallback (the last
+// period's): the law is then past what the hard constraints hold, where the linear
+// model's mismatch is large and the inputs jump, and that reads like noise (a 3.5 N
+// force's thrusts chattering at their 30 N bound read 4 times the design's noise and
+// brought the filter in, whose slower force estimate swung the vertical speed; 0.046
+// for 3 N). Noise that starts there is read once the hard law flies again.
 // No allocation in step(); it never throws.
 #pragma once
 
@@ -143,6 +149,7 @@ class TubeController {
   double w_ = 1.0;                         ///< the filter's weight in the flown estimate
   static constexpr double kBlendToFilter_s = 0.1, kBlendToResidual_s = 0.5;
   bool have_prev_ = false;
+  bool prev_off_law_ = false;  ///< last period's input: the softened QP's or the LQR fallback's (monitor skips)
   // Kalman filter (estimator "kalman").
   bool kalman_ = false;  ///< the filter runs (observer kalman or switched)
   bool rate_ = false;  ///< the artifact's QP has an input-rate weight: theta ends with v_prev - u_s
