@@ -29,7 +29,9 @@
 // that, whatever the step's size (a 1 N step read 0.026 without it, a 2 N one would have
 // read the 0.05 that brings the filter), while white noise is in every sample. Isolated
 // measurement outliers it drops too: the link's plausibility gates
-// (runtime/state_gate.hpp) are for those.
+// (runtime/state_gate.hpp) are for those. The tube controller passes the residuals of
+// periods its softened QP or its LQR fallback flew as not valid (tube_controller.hpp):
+// past what the hard law holds the inputs jump and the model's mismatch reads like noise.
 //
 // The switch (hysteresis): the filter at the start; the residual observer once a window
 // reads below `residual_below`, the filter again as soon as the level exceeds
