@@ -482,6 +482,8 @@ TEST(Scenarios, NoiseOnOneSensorOrBeyondTheDesignsIsReadAndFlown) {
     EXPECT_NEAR(m.noise_level_max, p.level, 0.05 * p.level) << p.what;
     EXPECT_NEAR(static_cast<double>(m.state_constraint_violations), p.violations, 0.05 * p.violations) << p.what;
     if (p.white[0] == 0.015) {
+      EXPECT_NEAR(m.violation_max_ratio, 1.78, 0.05 * 1.78);  // a servo rate
+      EXPECT_EQ(m.violation_worst_state, "d_alpha_l");
       MissionOptions residual;
       residual.observer = "residual";
       const MissionMetrics raw = run_mission(test::artifact(), sc, residual);
