@@ -1,7 +1,8 @@
 // tmpc solve --controller FILE.tmpc --solver NAME --x0 "..." [--json] [--eps E]: one
 // nominal QP, with the KKT residuals of the returned point; with the artifact's soft
-// constraints, a QP certified infeasible is reported so and the softened QP's solution
-// (its largest slack) printed instead, as the controller would fly it.
+// constraints, where the softened QP's solution differs from the hard one (a QP
+// certified infeasible, or one whose multipliers pass the penalty near its feasibility
+// boundary) that solution and its largest slack are printed, as the controller flies it.
 // tmpc solve --controller FILE.tmpc --solver NAME --batch FILE [--out CSV]: many QPs
 // at once (the GPU solvers in one launch), one CSV row each.
 #include <chrono>
@@ -114,8 +115,8 @@ void run_solve(const SolveOptionsCli& o) {
                                       o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law);
   const Eigen::VectorXd x0 = parameter_of(state, solver->problem().nx());
   const SolveResult r = solver->solve(x0);
-  // The artifact's soft constraints: the hard QP was certified infeasible and r is the
-  // softened QP's solution (controller_solver.hpp); the hard QP's KKT test does not apply.
+  // The artifact's soft constraints: r is the softened QP's solution, which uses a slack
+  // (controller_solver.hpp); the hard QP's KKT test does not apply.
   const std::string slack_state =
       r.softened && r.slack_state >= 0 && r.slack_state < static_cast<int>(a.state_names.size())
           ? a.state_names[static_cast<std::size_t>(r.slack_state)]
@@ -130,7 +131,7 @@ void run_solve(const SolveOptionsCli& o) {
   const Eigen::Vector4d u0_phys = u0.cwiseQuotient(a.N_u);
   if (o.json) {
     nlohmann::json j = {{"solver", o.solver},
-                        {"status", r.softened ? "infeasible" : to_string(r.status)},
+                        {"status", r.softened && !r.hard_solved ? "infeasible" : to_string(r.status)},
                         {"softened", r.softened},
                         {"iterations", r.iterations},
                         {"primal_residual", r.primal_residual},
@@ -150,9 +151,12 @@ void run_solve(const SolveOptionsCli& o) {
     return;
   }
   if (r.softened) {
-    std::printf("%s: infeasible (the hard QP); the softened QP (state constraints with the exact L1 penalty, inputs "
+    std::printf("%s: %s; the softened QP (state constraints with the exact L1 penalty, inputs "
                 "hard): %s after %d iterations (%.1f us in all), largest slack %.4g (normalized) in %s\n",
-                o.solver.c_str(), to_string(r.status), r.iterations, r.solve_us, r.slack_max, slack_state.c_str());
+                o.solver.c_str(),
+                r.hard_solved ? "the hard QP's multipliers pass the penalty (near its feasibility boundary)"
+                              : "infeasible (the hard QP)",
+                to_string(r.status), r.iterations, r.solve_us, r.slack_max, slack_state.c_str());
   } else {
     std::printf("%s: %s after %d iterations (%.1f us), residuals primal %.3e dual %.3e\n", o.solver.c_str(),
                 to_string(r.status), r.iterations, r.solve_us, r.primal_residual, r.dual_residual);

@@ -1,6 +1,7 @@
 // The runtime's solver factory (see controller_solver.hpp).
 #include "tmpc/runtime/controller_solver.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "tmpc/explicit/explicit_law.hpp"
@@ -10,33 +11,47 @@ namespace tmpc {
 
 namespace {
 
-/// The hard QP first; when it is certified infeasible or fails numerically, the
-/// softened QP, and the softened QP again each period until it uses no slack (see
-/// controller_solver.hpp). Its result has the hard layout (u_hat);
+/// The softened QP's solution every period, by the cheaper way: the hard QP first, and
+/// the softened QP when the hard one is certified infeasible, fails numerically, or its
+/// multipliers show that the softened optimum uses a slack (a state's multipliers summed
+/// over the horizon above the penalty); the softened QP again each period until it uses
+/// no slack (see controller_solver.hpp). Its result has the hard layout (u_hat);
 /// the slacks are reported in softened, slack_max and slack_state. No allocation per
 /// solve.
 class SoftRecoverySolver final : public QpSolver {
  public:
-  SoftRecoverySolver(std::unique_ptr<QpSolver> hard, std::unique_ptr<QpSolver> soft)
-      : hard_(std::move(hard)), soft_(std::move(soft)) {
+  /// check_multipliers: the hard solver returns its multipliers (solver_has_multipliers).
+  SoftRecoverySolver(std::unique_ptr<QpSolver> hard, std::unique_ptr<QpSolver> soft, bool check_multipliers)
+      : hard_(std::move(hard)), soft_(std::move(soft)), check_multipliers_(check_multipliers) {
     res_.z = Eigen::VectorXd::Zero(hard_->problem().nz());
     res_.y = Eigen::VectorXd::Zero(hard_->problem().nc());
     slacks_ = soft_->problem().slacks;
+    const int hard_nc = hard_->problem().nc(), soft_nc = soft_->problem().nc();
+    stages_ = slacks_ > 0 ? (soft_nc - hard_nc - slacks_) / slacks_ : 0;
+    state_row0_ = hard_nc - stages_ * slacks_;
+    penalty_ = slacks_ > 0 ? soft_->problem().f0(soft_->problem().nz() - 1) : 0.0;
   }
   const SolveResult& solve(const Eigen::VectorXd& x0) override {
     int h_iterations = 0, h_steps = 0;
     double h_us = 0.0;
+    const SolveResult* solved = nullptr;  // the hard QP's solution, where it has one
     if (!stay_soft_) {
       const SolveResult& h = hard_->solve(x0);
       // Infeasible, or a numerical failure (e.g. a nearly infeasible QP whose Farkas ray
-      // the active set cannot certify): where the hard QP is feasible the softened one has
-      // its solution (exact penalty), so the second solve loses nothing.
-      if (h.status != SolveStatus::Infeasible && h.status != SolveStatus::NumericalFailure) return h;
+      // the active set cannot certify), or feasible but with multipliers past the
+      // penalty: near the hard QP's feasibility boundary its solution is extreme (a
+      // servo rate 2.8 times its bound in a gust flight) while the softened optimum takes
+      // a little slack instead. Below the penalty both have the same solution.
+      if (h.status != SolveStatus::Infeasible && h.status != SolveStatus::NumericalFailure && !beyond_penalty(h)) {
+        return h;
+      }
+      if (h.status == SolveStatus::Converged) solved = &h;
       h_iterations = h.iterations;
       h_steps = h.active_set_steps;
       h_us = h.solve_us;
     }
     const SolveResult& r = soft_->solve(x0);
+    if (solved != nullptr && r.status != SolveStatus::Converged) return *solved;  // the hard QP's, rather than none
     res_.status = r.status;
     res_.iterations = h_iterations + r.iterations;
     res_.solve_us = h_us + r.solve_us;
@@ -48,6 +63,7 @@ class SoftRecoverySolver final : public QpSolver {
     res_.z = r.z.head(res_.z.size());
     res_.y.setZero();  // the hard QP has no multipliers: it is infeasible
     res_.softened = true;
+    res_.hard_solved = solved != nullptr;
     Eigen::Index worst = 0;
     res_.slack_max = slacks_ > 0 ? r.z.tail(slacks_).maxCoeff(&worst) : 0.0;
     res_.slack_state = static_cast<int>(worst);
@@ -59,6 +75,20 @@ class SoftRecoverySolver final : public QpSolver {
     // past their bounds; README "Soft state constraints").
     stay_soft_ = r.status == SolveStatus::Converged && res_.slack_max > kSlackZero;
     return res_;
+  }
+  /// Whether the softened QP's solution differs from this hard one: (z, s = 0) is the
+  /// softened optimum iff, per state i, rho - sum_k |y_k,i| >= 0 (the slack's
+  /// multiplier; soft_penalty.hpp). Only for solvers that return multipliers
+  /// (solver_has_multipliers: admm, reference, active-set); the explicit law flies its
+  /// hard solution wherever it has one.
+  bool beyond_penalty(const SolveResult& h) const {
+    if (!check_multipliers_ || h.status != SolveStatus::Converged || h.y.size() != hard_->problem().nc()) return false;
+    for (int i = 0; i < slacks_; ++i) {
+      double sum = 0.0;
+      for (int k = 0; k < stages_; ++k) sum += std::abs(h.y(state_row0_ + k * slacks_ + i));
+      if (sum > penalty_) return true;
+    }
+    return false;
   }
   void reset() override {
     stay_soft_ = false;
@@ -72,9 +102,11 @@ class SoftRecoverySolver final : public QpSolver {
  private:
   static constexpr double kSlackZero = 1e-9;  ///< a slack at most this (normalized) is none
   std::unique_ptr<QpSolver> hard_, soft_;
+  bool check_multipliers_ = false;
   bool stay_soft_ = false;
   SolveResult res_;
-  int slacks_ = 0;
+  int slacks_ = 0, stages_ = 0, state_row0_ = 0;
+  double penalty_ = 0.0;
 };
 
 }  // namespace
@@ -106,7 +138,8 @@ std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const 
     const ParametricQp hard_qp = ParametricQp::from_mpc(a.qp(offset_free));
     soft.rho = options.rho_scale * spectral_rho(hard_qp.H, hard_qp.A);
   }
-  return std::make_unique<SoftRecoverySolver>(std::move(hard), make_solver(soft_name, a.qp(offset_free, true), soft));
+  return std::make_unique<SoftRecoverySolver>(std::move(hard), make_solver(soft_name, a.qp(offset_free, true), soft),
+                                              solver_has_multipliers(name));
 }
 
 }  // namespace tmpc

@@ -56,27 +56,32 @@ TEST(Scenarios, FigureEightWaypointsAndTheCsvTrackFlyWithTheDefaultArtifact) {
 TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   const MissionMetrics gusts = fly("gusts");
   EXPECT_EQ(gusts.periods, 6667);
-  expect_rmse(gusts, 0.0964, 0.1008, 0.0068);
-  // A servo rate, in one transient (4.70 with the tube gain of lambda's input weights;
-  // 9.35 with that gain when the recovery went back to the hard QP as soon as it was
-  // feasible: the jump at its feasibility boundary, controller_solver.hpp).
-  EXPECT_NEAR(gusts.violation_max_ratio, 2.82, 0.05 * 2.82);
-  const std::size_t servo = static_cast<std::size_t>(
-      std::find(gusts.box_names.begin(), gusts.box_names.end(), "d_alpha_l") - gusts.box_names.begin());
-  ASSERT_LT(servo, gusts.box_peak_ratio.size());
-  EXPECT_DOUBLE_EQ(gusts.box_peak_ratio[servo], gusts.violation_max_ratio);
+  expect_rmse(gusts, 0.0952, 0.0918, 0.0068);
+  // The load's tilt past its box, from the gust's physics (README "Noisy sensors"), and
+  // no servo rate past its bound: the law takes the softened optimum near the hard QP's
+  // feasibility boundary, where the hard solution's servo rates peaked at 2.82 times
+  // their bound (4.70 with the tube gain of lambda's input weights; 9.35 with that gain
+  // when the recovery went back to the hard QP as soon as it was feasible).
+  EXPECT_NEAR(gusts.violation_max_ratio, 1.22, 0.05 * 1.22);
+  EXPECT_EQ(gusts.violation_worst_state, "phi");
+  for (const char* servo_rate : {"d_alpha_l", "d_alpha_r"}) {
+    const std::size_t servo = static_cast<std::size_t>(
+        std::find(gusts.box_names.begin(), gusts.box_names.end(), servo_rate) - gusts.box_names.begin());
+    ASSERT_LT(servo, gusts.box_peak_ratio.size());
+    EXPECT_LT(gusts.box_peak_ratio[servo], 0.95) << servo_rate;  // 0.92
+  }
   // No LQR takeover (1048 periods before soft constraints were shipped): the infeasible
   // QPs, and the two a numerical failure ended, are flown softened; no solve cycles
   // (a softened QP took 4000 steps when its slack curvature was 1e-8, parametric_qp.hpp).
   std::printf("gusts: softened %ld, largest iteration count %d\n", gusts.softened_periods, gusts.iterations_max);
-  expect_softened_flight(gusts, 745.0, 913.0);
+  expect_softened_flight(gusts, 763.0, 991.0);
   EXPECT_LT(gusts.iterations_max, 200);
-  // The gusts' random force is white in its changes: the monitor reads up to 0.041 of
-  // the design noise on the hard law's periods (0.051 near 67 s when it read the
-  // softened ones too, and the filter flew there 1.5 s), below filter_above.
+  // The monitor reads up to 0.0023 of the design noise on the hard law's periods (0.051
+  // near 67 s when it read the softened ones too and the hard solution flew up to the
+  // feasibility boundary: the filter flew there 1.5 s), far below filter_above.
   std::printf("gusts: filter %ld periods, level max %.4f\n", gusts.filtered_periods, gusts.noise_level_max);
   EXPECT_EQ(gusts.filtered_periods, 7);
-  EXPECT_NEAR(gusts.noise_level_max, 0.041, 0.003);
+  EXPECT_LT(gusts.noise_level_max, 0.005);
   // A sustained 3 N from 10 s (every QP infeasible): the softened MPC flies to the end
   // (the LQR fallback for 5830 periods before soft constraints were shipped).
   // The noise monitor skips the softened periods (tube_controller.hpp) and reads at most
@@ -103,7 +108,7 @@ TEST(Scenarios, GustsAndNoisySensorsAreFlownAndTheirViolationsReported) {
   EXPECT_TRUE(noisy.noisy);
   EXPECT_FALSE(noisy.diverged);
   EXPECT_EQ(noisy.periods, 6667);
-  EXPECT_NEAR(static_cast<double>(noisy.state_constraint_violations), 4955.0, 0.05 * 4955.0);
+  EXPECT_NEAR(static_cast<double>(noisy.state_constraint_violations), 4954.0, 0.05 * 4954.0);
   EXPECT_NEAR(noisy.violation_max_ratio, 4.14, 0.05 * 4.14);
   expect_rmse(noisy, 0.0348, 0.0308, 0.0031);
   EXPECT_EQ(noisy.fallback_periods, 0);
@@ -165,8 +170,9 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   expect_softened_flight(held, 5809.0, 5794.0);  // no LQR takeover: the softened QP flies
   EXPECT_NEAR(held.violation_max_ratio, 6.7, 0.05 * 6.7);  // d_z, in the step's transient
   const MissionMetrics gusts = fly("gusts", a);
-  expect_softened_flight(gusts, 735.0, 930.0);  // (1048 fallbacks with the shipped design before soft constraints)
-  EXPECT_NEAR(gusts.violation_max_ratio, 1.83, 0.05 * 1.83);  // a servo rate
+  expect_softened_flight(gusts, 714.0, 979.0);  // (1048 fallbacks with the shipped design before soft constraints)
+  std::printf("gusts, noisy-sensor design: worst %s %.3f\n", gusts.violation_worst_state.c_str(), gusts.violation_max_ratio);
+  EXPECT_NEAR(gusts.violation_max_ratio, 1.31, 0.05 * 1.31);  // 1.83, a servo rate, before the multiplier check
 }
 
 // README "Noisy sensors": the noisy-sensor design is not tuned to one flight: the
@@ -343,8 +349,10 @@ TEST(Scenarios, TheGaussianOutputFeedbackTubeFliesTheNoiseAndIsTighterUnderForce
   EXPECT_EQ(quiet.fallback_periods, 0);
   expect_rmse(quiet, 0.0277, 0.0273, 0.0101);
   const MissionMetrics gusts = fly("gusts", a);
-  expect_softened_flight(gusts, 757.0, 1497.0);
-  EXPECT_NEAR(gusts.violation_max_ratio, 1.37, 0.05 * 1.37);
+  std::printf("gusts with the tube: softened %ld, worst %s %.3f\n", gusts.softened_periods,
+              gusts.violation_worst_state.c_str(), gusts.violation_max_ratio);
+  expect_softened_flight(gusts, 767.0, 1544.0);
+  EXPECT_NEAR(gusts.violation_max_ratio, 1.37, 0.05 * 1.37);  // phi
   const MissionMetrics held = fly("sustained_force", a);  // 3 N from 10 s
   EXPECT_TRUE(held.diverged);
   EXPECT_NEAR(static_cast<double>(held.periods), 1045.0, 0.1 * 1045.0);
@@ -363,7 +371,7 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   EXPECT_NEAR(loud.rmse[0], 0.0464, 0.02 * 0.0464);
   EXPECT_NEAR(loud.rmse[1], 0.0353, 0.02 * 0.0353);
   EXPECT_NEAR(loud.rmse[2], 0.0113, 0.02 * 0.0113);
-  expect_softened_flight(fly("gusts_2n", a), 1333.0, 1398.0);
+  expect_softened_flight(fly("gusts_2n", a), 1309.0, 1414.0);
   // Three and four times the noise (the twice-noise scenario's, scaled): the violations
   // grow (servo rates), the flight goes on to the end without a fallback.
   const std::array<std::array<double, 3>, 2> louder = {{{1.5, 200.0, 1.77}, {2.0, 724.0, 2.37}}};
@@ -391,9 +399,9 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   const MissionMetrics raw = test::fly_residual_observer("noisy_sensors_x2");
   EXPECT_FALSE(raw.diverged);
   EXPECT_EQ(raw.periods, 6667);
-  EXPECT_NEAR(static_cast<double>(raw.state_constraint_violations), 5573.0, 0.05 * 5573.0);
+  EXPECT_NEAR(static_cast<double>(raw.state_constraint_violations), 5615.0, 0.05 * 5615.0);
   EXPECT_EQ(raw.fallback_periods, 0);
-  expect_softened_flight(fly("gusts_2n"), 1307.0, 1399.0);
+  expect_softened_flight(fly("gusts_2n"), 1312.0, 1414.0);
 }
 
 
@@ -580,8 +588,8 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
   };
   // violations and fallback periods per run: the shipped design, the noisy-sensor one.
   // (before the shipped design had soft constraints: 0, 4, 42 violations, 0, 15, 91 fallbacks)
-  const long shipped_v[3] = {0, 0, 12}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 48, 63}, noisy_f[3] = {0, 0, 0};
-  const long shipped_s[3] = {0, 33, 95}, noisy_s[3] = {0, 0, 102};  // softened periods
+  const long shipped_v[3] = {0, 0, 12}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 48, 57}, noisy_f[3] = {0, 0, 0};
+  const long shipped_s[3] = {0, 33, 101}, noisy_s[3] = {0, 0, 157};  // softened periods
   for (int run = 0; run < 3; ++run) {
     const MissionMetrics s = fly_run(test::artifact(), run), n = fly_run(test::noisy_artifact(), run);
     near(s.state_constraint_violations, shipped_v[run]);

@@ -335,8 +335,10 @@ TEST(TubeController, AnInputRateWeightSmoothsTheNominalInputAgainstNoise) {
     EXPECT_EQ(rs.back().fallbacks, 0) << "weight " << w;  // the softened QP where the noise makes one infeasible
     EXPECT_LT(rs.back().position, 1.5 * rs.front().position) << "weight " << w;
   }
-  // Measured 0.063, 0.0155, 0.0067, 0.0032; position RMS 0.022, 0.021, 0.016, 0.019 m.
-  const double measured[4] = {0.063, 0.0155, 0.0067, 0.0032};  // as the README states them
+  // Measured 0.063, 0.0155, 0.0067, 0.0018; position RMS 0.022, 0.021, 0.016, 0.024 m (at
+  // 1000 x lambda the noise brings states near the feasibility boundary, where the law
+  // takes the softened optimum: 0.0032 and 0.019 m with the hard solution there).
+  const double measured[4] = {0.063, 0.0155, 0.0067, 0.0018};  // as the README states them
   for (std::size_t i = 0; i < rs.size(); ++i) EXPECT_NEAR(rs[i].move, measured[i], 0.1 * measured[i]) << "weight step " << i;
   for (std::size_t i = 1; i < rs.size(); ++i) EXPECT_LT(rs[i].move, 0.8 * rs[i - 1].move) << "weight step " << i;
   EXPECT_LT(rs[2].move, 0.2 * rs[0].move);

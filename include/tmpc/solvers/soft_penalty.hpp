@@ -10,8 +10,10 @@
 // 0.99), and a penalty exact that far out makes the L1 term dominate the cost where the
 // QP is infeasible: with rho = 155 to 2.3e5 the 0.24 s horizon chose inputs that cut
 // the immediate violation and a sustained 3 N force on the load diverged (rho = 100:
-// bounded). Nothing is lost near the boundary: the runtime solves the softened QP
-// only when the hard one is certified infeasible (runtime/controller_solver.hpp).
+// bounded). Near the boundary the runtime flies the softened QP's solution, which takes
+// a little slack there instead of the hard QP's extreme inputs: it solves the softened
+// QP where the hard one is infeasible or its multiplier sums pass rho
+// (runtime/controller_solver.hpp).
 #pragma once
 
 #include "tmpc/synthesis/artifact.hpp"

@@ -82,10 +82,13 @@ struct SolveResult {
   int active_set_steps = 0;      ///< admm: steps of its active-set finish, over all attempts
   Eigen::VectorXd z;             ///< u_hat (normalized), preallocated
   Eigen::VectorXd y;             ///< multipliers of lo <= A z <= hi (sign: + upper, - lower)
-  /// The hard QP was infeasible and this is the softened QP's solution (the runtime's
-  /// recovery, controller_solver.hpp): its largest slack (normalized state units) and
-  /// the state that has it. Solvers of one form never set these.
+  /// This is the softened QP's solution, which uses a slack (the runtime's law,
+  /// controller_solver.hpp): its largest slack (normalized state units) and the state
+  /// that has it; hard_solved: the hard QP had a solution too (its multipliers passed
+  /// the penalty) rather than being infeasible or failing. Solvers of one form never
+  /// set these.
   bool softened = false;
+  bool hard_solved = false;
   double slack_max = 0.0;
   int slack_state = -1;
   Eigen::Vector4d u0() const { return z.head<4>(); }
