@@ -1,11 +1,11 @@
 // The runtime's solver factory (see controller_solver.hpp).
 #include "tmpc/runtime/controller_solver.hpp"
 
-#include <cmath>
 #include <stdexcept>
 
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/explicit/explicit_solver.hpp"
+#include "tmpc/solvers/soft_penalty.hpp"
 
 namespace tmpc {
 
@@ -20,16 +20,17 @@ namespace {
 /// solve.
 class SoftRecoverySolver final : public QpSolver {
  public:
-  /// check_multipliers: the hard solver returns its multipliers (solver_has_multipliers).
-  SoftRecoverySolver(std::unique_ptr<QpSolver> hard, std::unique_ptr<QpSolver> soft, bool check_multipliers)
-      : hard_(std::move(hard)), soft_(std::move(soft)), check_multipliers_(check_multipliers) {
+  /// d: the hard MPC QP (its last N n rows the state constraints); penalty: the
+  /// softened QP's rho; check_multipliers: the hard solver returns its multipliers
+  /// (solver_has_multipliers).
+  SoftRecoverySolver(std::unique_ptr<QpSolver> hard, std::unique_ptr<QpSolver> soft, const MpcQpData& d,
+                     double penalty, bool check_multipliers)
+      : hard_(std::move(hard)), soft_(std::move(soft)), check_multipliers_(check_multipliers), penalty_(penalty) {
     res_.z = Eigen::VectorXd::Zero(hard_->problem().nz());
     res_.y = Eigen::VectorXd::Zero(hard_->problem().nc());
     slacks_ = soft_->problem().slacks;
-    const int hard_nc = hard_->problem().nc(), soft_nc = soft_->problem().nc();
-    stages_ = slacks_ > 0 ? (soft_nc - hard_nc - slacks_) / slacks_ : 0;
-    state_row0_ = hard_nc - stages_ * slacks_;
-    penalty_ = slacks_ > 0 ? soft_->problem().f0(soft_->problem().nz() - 1) : 0.0;
+    stages_ = d.N;
+    state_row0_ = hard_->problem().nc() - d.N * d.n;
   }
   const SolveResult& solve(const Eigen::VectorXd& x0) override {
     int h_iterations = 0, h_steps = 0;
@@ -61,7 +62,7 @@ class SoftRecoverySolver final : public QpSolver {
     res_.restarts = r.restarts;
     res_.active_set_steps = h_steps + r.active_set_steps;
     res_.z = r.z.head(res_.z.size());
-    res_.y.setZero();  // the hard QP has no multipliers: it is infeasible
+    res_.y.setZero();  // no multipliers of the hard QP: its solution is not the one flown
     res_.softened = true;
     res_.hard_solved = solved != nullptr;
     Eigen::Index worst = 0;
@@ -83,12 +84,7 @@ class SoftRecoverySolver final : public QpSolver {
   /// hard solution wherever it has one.
   bool beyond_penalty(const SolveResult& h) const {
     if (!check_multipliers_ || h.status != SolveStatus::Converged || h.y.size() != hard_->problem().nc()) return false;
-    for (int i = 0; i < slacks_; ++i) {
-      double sum = 0.0;
-      for (int k = 0; k < stages_; ++k) sum += std::abs(h.y(state_row0_ + k * slacks_ + i));
-      if (sum > penalty_) return true;
-    }
-    return false;
+    return largest_multiplier_sum(h.y, state_row0_, stages_, slacks_) > penalty_;
   }
   void reset() override {
     stay_soft_ = false;
@@ -103,10 +99,10 @@ class SoftRecoverySolver final : public QpSolver {
   static constexpr double kSlackZero = 1e-9;  ///< a slack at most this (normalized) is none
   std::unique_ptr<QpSolver> hard_, soft_;
   bool check_multipliers_ = false;
+  double penalty_ = 0.0;
   bool stay_soft_ = false;
   SolveResult res_;
   int slacks_ = 0, stages_ = 0, state_row0_ = 0;
-  double penalty_ = 0.0;
 };
 
 }  // namespace
@@ -139,7 +135,7 @@ std::unique_ptr<QpSolver> make_controller_solver(const std::string& name, const 
     soft.rho = options.rho_scale * spectral_rho(hard_qp.H, hard_qp.A);
   }
   return std::make_unique<SoftRecoverySolver>(std::move(hard), make_solver(soft_name, a.qp(offset_free, true), soft),
-                                              solver_has_multipliers(name));
+                                              a.qp(offset_free), a.soft_penalty, solver_has_multipliers(name));
 }
 
 }  // namespace tmpc

@@ -43,18 +43,29 @@ SoftPenaltyCalibration calibrate_soft_penalty(const ControllerArtifact& a, doubl
       const SolveResult& r = exact->solve(at(frac * lo));
       if (r.status != SolveStatus::Converged) continue;
       ++c.samples;
-      for (int i = 0; i < d.n; ++i) {
-        double sum = 0.0;
-        for (int s = 0; s < d.N; ++s) sum += std::abs(r.y(nz + s * d.n + i));
-        if (sum > c.largest_multiplier_sum) {
-          c.largest_multiplier_sum = sum;
-          c.worst_state = i;
-        }
+      int worst = -1;
+      const double sum = largest_multiplier_sum(r.y, nz, d.N, d.n, &worst);
+      if (sum > c.largest_multiplier_sum) {
+        c.largest_multiplier_sum = sum;
+        c.worst_state = worst;
       }
     }
   }
   c.penalty = std::max(1.0, safety * c.largest_multiplier_sum);
   return c;
+}
+
+double largest_multiplier_sum(const Eigen::VectorXd& y, int first, int N, int n, int* worst) {
+  double largest = 0.0;
+  for (int i = 0; i < n; ++i) {
+    double sum = 0.0;
+    for (int k = 0; k < N; ++k) sum += std::abs(y(first + k * n + i));
+    if (sum > largest) {
+      largest = sum;
+      if (worst != nullptr) *worst = i;
+    }
+  }
+  return largest;
 }
 
 SoftPenaltyCalibration apply_soft_penalty(ControllerArtifact& a, double safety) {

@@ -38,4 +38,10 @@ SoftPenaltyCalibration calibrate_soft_penalty(const ControllerArtifact& a, doubl
 /// (penalty 0 when nothing was done).
 SoftPenaltyCalibration apply_soft_penalty(ControllerArtifact& a, double safety);
 
+/// The largest over the n states of sum_k |y(first + k n + i)|, k < N: a hard QP's
+/// state-constraint multipliers (rows first.. , stage by stage) summed over the horizon
+/// per state, the quantity the penalty must cover; `worst` (if given) the state. No
+/// allocation.
+double largest_multiplier_sum(const Eigen::VectorXd& y, int first, int N, int n, int* worst = nullptr);
+
 }  // namespace tmpc
