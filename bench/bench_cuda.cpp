@@ -1,7 +1,8 @@
 // GPU ADMM benchmarks (needs a CUDA device; every benchmark says why it skips
 // without one). Host-to-host latency per solve (state up, solve, result down) of
 // the fused kernel, the CUDA Graph and the thesis-style cuBLAS paths at N in
-// {10, 20, 40}; batched throughput for B in {1, 64, 1024, 16384, 65536} against the
+// {10, 20, 40}, the fused kernel's fixed cost (its loop capped at one iteration) and
+// its block sizes (128 to 1024 threads); batched throughput for B in {1, 64, 1024, 16384, 65536} against the
 // CPU solver on one core in the same run.
 #include <algorithm>
 #include <chrono>
@@ -40,7 +41,9 @@ std::vector<float> flat_states(const std::vector<Eigen::VectorXd>& xs) {
 
 enum Path { kFused = 0, kGraph = 1, kCublas = 2, kFusedBlock = 3 };
 
-void latency(benchmark::State& st, int path, int variant, int N, bool warm) {
+/// Host-to-host latency of one solve; max_iterations > 0 caps the loop (the fixed cost
+/// of a solve: launch, staging, one residual check, completion, transfers).
+void latency(benchmark::State& st, int path, int variant, int N, bool warm, int max_iterations = 0, int threads = 0) {
   const std::string why = no_device_reason();
   if (!why.empty()) {
     st.SkipWithError(why.c_str());
@@ -52,8 +55,10 @@ void latency(benchmark::State& st, int path, int variant, int N, bool warm) {
   const std::vector<Eigen::VectorXd> xs = warm ? warm_states(d, 200) : cold_states(200);
   const std::vector<float> x0s = flat_states(xs);
   const tmpc::gpu::AdmmProblem p = tmpc::make_gpu_problem(d, o);
-  const tmpc::gpu::AdmmSettings s = tmpc::make_gpu_settings(o, variant);
+  tmpc::gpu::AdmmSettings s = tmpc::make_gpu_settings(o, variant);
+  if (max_iterations > 0) s.max_iterations = max_iterations;
   tmpc::cuda::DeviceOptions dopt;
+  if (threads > 0) dopt.threads = threads;
   dopt.prefer_block_form = path == kFusedBlock;
   if (path == kGraph) {
     // A fixed count every benchmark state converges within: the fused kernel's most.
@@ -174,6 +179,22 @@ void register_all() {
         const std::string name = std::string("latency/exact/") + paths[path] + "/N:" + std::to_string(N) +
                                  (warm ? "/warm" : "/cold");
         benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { latency(st, path, tmpc::gpu::kExact, N, warm); })
+            ->Unit(benchmark::kMicrosecond)
+            ->Iterations(2000)
+            ->UseRealTime();
+      }
+    }
+    const std::string fixed = "latency/exact/fused/N:" + std::to_string(N) + "/one_iteration";
+    benchmark::RegisterBenchmark(fixed.c_str(), [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kExact, N, false, 1); })
+        ->Unit(benchmark::kMicrosecond)
+        ->Iterations(2000)
+        ->UseRealTime();
+    for (int threads : {128, 512, 1024}) {  // the block's size against the default 256
+      for (bool warm : {false, true}) {
+        const std::string name = "latency/exact/fused/N:" + std::to_string(N) + (warm ? "/warm" : "/cold") +
+                                 "/threads:" + std::to_string(threads);
+        benchmark::RegisterBenchmark(name.c_str(),
+                                     [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kExact, N, warm, 0, threads); })
             ->Unit(benchmark::kMicrosecond)
             ->Iterations(2000)
             ->UseRealTime();

@@ -64,6 +64,17 @@ bool AdmmDevice::Impl::setup() {
     return false;
   }
   if (!check(cudaSetDevice(options.device), "cudaSetDevice")) return false;
+  int most_threads = 0;
+  if (!check(fused_kernel_max_threads(settings.variant, &most_threads), "cudaFuncGetAttributes")) return false;
+  if (options.threads > most_threads || options.batch_threads > most_threads) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "GPU options: %d threads a block asked for, the fused kernel launches with at most %d on this device "
+                  "(its registers a thread)",
+                  options.threads > options.batch_threads ? options.threads : options.batch_threads, most_threads);
+    error = buf;
+    return false;
+  }
   if (!check(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking), "cudaStreamCreate")) return false;
   if (!check(cudaEventCreateWithFlags(&done, cudaEventDisableTiming), "cudaEventCreate")) return false;
   bool uploaded = true;

@@ -99,6 +99,9 @@ cudaError_t launch_fused_kernel(int variant, const gpu::ProblemView<float>& view
 int staged_matrix_floats(int variant, const gpu::ProblemView<float>& v);
 /// The graph path's outcome from the residual maxima it left in h_res (admm_cublas.cu).
 void graph_outcome(AdmmDevice::Impl& im);
+/// The most threads a block of the fused kernel of `variant` can launch with on the
+/// current device (its registers a thread bound it: on an H200, 1024 failed at launch).
+cudaError_t fused_kernel_max_threads(int variant, int* most);
 /// Allow `bytes` of dynamic shared memory for the kernel of `variant`.
 cudaError_t allow_shared_memory(int variant, int bytes);
 

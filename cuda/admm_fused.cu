@@ -122,6 +122,14 @@ cudaError_t allow_shared_memory(int variant, int bytes) {
   return cudaFuncSetAttribute(admm_fused_kernel<gpu::kThesis>, cudaFuncAttributeMaxDynamicSharedMemorySize, bytes);
 }
 
+cudaError_t fused_kernel_max_threads(int variant, int* most) {
+  cudaFuncAttributes a{};
+  const cudaError_t e = variant == gpu::kExact ? cudaFuncGetAttributes(&a, admm_fused_kernel<gpu::kExact>)
+                                               : cudaFuncGetAttributes(&a, admm_fused_kernel<gpu::kThesis>);
+  *most = a.maxThreadsPerBlock;
+  return e;
+}
+
 cudaError_t launch_fused_kernel(int variant, const gpu::ProblemView<float>& view, const gpu::AdmmSettings& s,
                                 const float* x0s, const SlotArrays& slots, int blocks, int threads, int ws_floats,
                                 int smem_bytes, bool stage, cudaStream_t stream) {

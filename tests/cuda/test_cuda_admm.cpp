@@ -63,8 +63,11 @@ struct CaseStudy {
 };
 
 /// Fused single solves of `variant` against the CPU twin.
-ParityStats fused_parity(int variant, const std::vector<Eigen::VectorXd>& xs, bool warm, cuda::DeviceOptions dopt = {}) {
+/// max_iterations > 0 replaces the iteration cap of both.
+ParityStats fused_parity(int variant, const std::vector<Eigen::VectorXd>& xs, bool warm, cuda::DeviceOptions dopt = {},
+                         int max_iterations = 0) {
   CaseStudy s(warm);
+  if (max_iterations > 0) s.o.max_iterations = max_iterations;
   auto cpu = make_solver(variant == gpu::kExact ? "admm" : "admm-thesis", s.d, s.o);
   cuda::AdmmDevice dev(make_gpu_problem(s.d, s.o), make_gpu_settings(s.o, variant), dopt);
   EXPECT_TRUE(dev.ok()) << dev.error();
@@ -123,9 +126,11 @@ TEST(CudaAdmm, FusedExactWithTheBlockFormInSharedMemory) {
 TEST(CudaAdmm, FusedThesisMatchesItsCpuTwin) {
   REQUIRE_GPU();
   // Float needs more iterations of the literal algorithm than double (measured +34 %
-  // on the host run of the same code, tests/gpu): status and u must agree; the
-  // iteration count is bounded as measured.
-  const ParityStats st = fused_parity(gpu::kThesis, case_study_states(100, 4), false);
+  // on the host run of the same code, tests/gpu; +31 % here on an H200 with the cap raised): status and u
+  // must agree; the iteration count is bounded as measured. The cap is raised for both
+  // (4000 -> 8000): at the shipped cap 2 of these 100 QPs ended with other statuses on
+  // an H200, the float run needing iterations past the cap.
+  const ParityStats st = fused_parity(gpu::kThesis, case_study_states(100, 4), false, {}, 8000);
   expect_parity(st, false);
   EXPECT_LE(st.iters_gpu, 1.5 * st.iters_cpu);
 }
@@ -297,6 +302,23 @@ TEST(CudaAdmm, FailuresAreStatuses) {
   gpu::AdmmOutcome o;
   EXPECT_FALSE(dev.solve_batch(xf.data(), 2, &o, nullptr, false));
   EXPECT_NE(std::string(dev.error()).find("batch"), std::string::npos);
+}
+
+TEST(CudaAdmm, ABlockTooLargeForTheKernelIsRefusedAtSetUpNotAtLaunch) {
+  REQUIRE_GPU();
+  // 1024 threads are within CUDA's block limit but not the fused kernel's (registers):
+  // on an H200 the launch failed with cudaErrorLaunchOutOfResources. Set-up says so.
+  CaseStudy s(false);
+  cuda::DeviceOptions big;
+  big.threads = 1024;
+  cuda::AdmmDevice dev(make_gpu_problem(s.d, s.o), make_gpu_settings(s.o, gpu::kExact), big);
+  if (dev.ok()) {  // a device whose registers allow it: then it must solve
+    const std::vector<float> xf = to_float(case_study_states(1, 19)[0]);
+    ASSERT_TRUE(dev.start(xf.data()) && dev.wait()) << dev.error();
+    EXPECT_EQ(dev.outcome().status, gpu::kConverged);
+  } else {
+    EXPECT_NE(std::string(dev.error()).find("threads a block"), std::string::npos) << dev.error();
+  }
 }
 
 }  // namespace
