@@ -2,8 +2,8 @@
 // without one). Host-to-host latency per solve (state up, solve, result down) of
 // the fused kernel, the CUDA Graph and the thesis-style cuBLAS paths at N in
 // {10, 20, 40}, the fused kernel's fixed cost (its loop capped at one iteration) and
-// its block sizes (128 to 1024 threads); batched throughput for B in {1, 64, 1024, 16384, 65536} against the
-// CPU solver on one core in the same run.
+// its block sizes (128 to 1024 threads); batched throughput for B in {1, 64, 1024,
+// 16384, 65536} against the CPU solver on one core in the same run.
 #include <algorithm>
 #include <chrono>
 #include <string>
@@ -170,45 +170,38 @@ void cpu_one_core(benchmark::State& st, const std::string& solver, bool twin) {
   st.counters["qps_per_s"] = static_cast<double>(solved) / seconds;
 }
 
+/// One latency benchmark of `solves` timed solves; `run` takes its state.
+template <class Run>
+void register_latency(const std::string& name, int solves, Run run) {
+  benchmark::RegisterBenchmark(name.c_str(), run)->Unit(benchmark::kMicrosecond)->Iterations(solves)->UseRealTime();
+}
+
 void register_all() {
   const char* paths[] = {"fused", "graph", "cublas", "fused_block"};
   for (int N : {10, 20, 40}) {
+    const std::string at = "/N:" + std::to_string(N);
     for (int path : {kFused, kGraph, kCublas, kFusedBlock}) {
       for (bool warm : {false, true}) {
         if ((path == kGraph || path == kFusedBlock) && warm) continue;  // cold only
-        const std::string name = std::string("latency/exact/") + paths[path] + "/N:" + std::to_string(N) +
-                                 (warm ? "/warm" : "/cold");
         // The host-driven paths take milliseconds a solve (an H200: up to 46 ms at
         // N = 40): fewer solves keep the whole benchmark inside a short device lease.
         const int solves = path == kGraph || path == kCublas ? 300 : 2000;
-        benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { latency(st, path, tmpc::gpu::kExact, N, warm); })
-            ->Unit(benchmark::kMicrosecond)
-            ->Iterations(solves)
-            ->UseRealTime();
+        register_latency(std::string("latency/exact/") + paths[path] + at + (warm ? "/warm" : "/cold"), solves,
+                         [=](benchmark::State& st) { latency(st, path, tmpc::gpu::kExact, N, warm); });
       }
     }
-    const std::string fixed = "latency/exact/fused/N:" + std::to_string(N) + "/one_iteration";
-    benchmark::RegisterBenchmark(fixed.c_str(), [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kExact, N, false, 1); })
-        ->Unit(benchmark::kMicrosecond)
-        ->Iterations(2000)
-        ->UseRealTime();
-    for (int threads : {128, 512, 1024}) {  // the block's size against the default 256, at N = 20
-      if (N != 20) break;
-      for (bool warm : {false, true}) {
-        const std::string name = "latency/exact/fused/N:" + std::to_string(N) + (warm ? "/warm" : "/cold") +
-                                 "/threads:" + std::to_string(threads);
-        benchmark::RegisterBenchmark(name.c_str(),
-                                     [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kExact, N, warm, 0, threads); })
-            ->Unit(benchmark::kMicrosecond)
-            ->Iterations(2000)
-            ->UseRealTime();
+    register_latency("latency/exact/fused" + at + "/one_iteration", 2000,
+                     [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kExact, N, false, 1); });
+    if (N == 20) {  // the block's size against the default 256
+      for (int threads : {128, 512, 1024}) {
+        for (bool warm : {false, true}) {
+          register_latency("latency/exact/fused" + at + (warm ? "/warm" : "/cold") + "/threads:" + std::to_string(threads),
+                           2000, [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kExact, N, warm, 0, threads); });
+        }
       }
     }
-    const std::string thesis = "latency/thesis/fused/N:" + std::to_string(N) + "/warm";
-    benchmark::RegisterBenchmark(thesis.c_str(), [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kThesis, N, true); })
-        ->Unit(benchmark::kMicrosecond)
-        ->Iterations(500)
-        ->UseRealTime();
+    register_latency("latency/thesis/fused" + at + "/warm", 500,
+                     [=](benchmark::State& st) { latency(st, kFused, tmpc::gpu::kThesis, N, true); });
   }
   for (int B : {1, 64, 1024, 16384, 65536}) {
     for (bool stage : {false, true}) {

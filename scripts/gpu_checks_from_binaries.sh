@@ -40,6 +40,7 @@ if [ -x "$bin/tmpc" ] && [ -n "${TMPC_ARTIFACT:-}" ]; then
     "$bin/tmpc" simulate --controller "$TMPC_ARTIFACT" --scenario "$src/config/scenarios/thesis_helix.yaml" \
       --solver "$solver" --out "$dir" || status=1
     [ -f "$dir/metrics.json" ] && cp "$dir/metrics.json" "$results/mission-${solver}-${tag}-${stamp}.json"
+    rm -rf "$dir"
   done
 fi
 exit "$status"

@@ -126,10 +126,10 @@ TEST(CudaAdmm, FusedExactWithTheBlockFormInSharedMemory) {
 TEST(CudaAdmm, FusedThesisMatchesItsCpuTwin) {
   REQUIRE_GPU();
   // Float needs more iterations of the literal algorithm than double (measured +34 %
-  // on the host run of the same code, tests/gpu; +31 % here on an H200 with the cap raised): status and u
-  // must agree; the iteration count is bounded as measured. The cap is raised for both
-  // (4000 -> 8000): at the shipped cap 2 of these 100 QPs ended with other statuses on
-  // an H200, the float run needing iterations past the cap.
+  // on the host run of the same code, tests/gpu; +31 % on an H200 with the cap
+  // raised): status and u must agree; the iteration count is bounded as measured. The
+  // cap is raised for both (4000 -> 8000): at the shipped cap 2 of these 100 QPs ended
+  // with other statuses on an H200, the float run needing iterations past the cap.
   const ParityStats st = fused_parity(gpu::kThesis, case_study_states(100, 4), false, {}, 8000);
   expect_parity(st, false);
   EXPECT_LE(st.iters_gpu, 1.5 * st.iters_cpu);
