@@ -114,7 +114,8 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
     // disturbance) and takes the first measurement through its gain like every later
     // one; the nominal state starts at that first estimate (in prepare()). Starting at
     // the raw measurement put its noise into the nominal trajectory, which the QP then
-    // flew: a servo-rate kick of 1.4 times its bound in the first 0.1 s.
+    // flew: a servo-rate kick of 1.4 times its bound in the first 0.1 s. A row the first
+    // measurement puts far outside its noise starts at that measurement (prepare()).
     xi_.setZero();
     x_hat_.setZero();
     from_prior_ = true;
@@ -182,8 +183,18 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       xi_pred_.noalias() += B_a_ * u_prev_n_;
     } else if (from_prior_) {
       // The first period after reset(): predicted = the prior; the integrals measured.
+      // A row whose first measurement lies more than kPriorGate_sigmas of its noise
+      // from the prior refutes it (a vehicle started or engaged off its reference: a
+      // 0.3 m offset through the steady-state gain read as a load swing and kicked the
+      // servo rates to twice their bound); that row starts at its measurement.
       x_hat_.tail(ni) = x_n_.tail(ni);
       xi_pred_ = xi_;
+      for (std::size_t j = 0; j < rows_.size(); ++j) {
+        const int r = rows_[j];
+        if (std::abs(x_n_(r) - xi_pred_(r)) > kPriorGate_sigmas * a_.estimator_noise(static_cast<Eigen::Index>(j))) {
+          xi_pred_(r) = x_n_(r);
+        }
+      }
     } else {
       // A restart: the measured rows and the integrals from this state, the rest kept.
       x_hat_.tail(ni) = x_n_.tail(ni);

@@ -148,6 +148,7 @@ class TubeController {
   std::unique_ptr<NoiseMonitor> monitor_;  ///< switched observer only
   double w_ = 1.0;                         ///< the filter's weight in the flown estimate
   static constexpr double kBlendToFilter_s = 0.1, kBlendToResidual_s = 0.5;
+  static constexpr double kPriorGate_sigmas = 5.0;  ///< the first measurement refutes the filter's prior beyond this
   bool have_prev_ = false;
   bool prev_off_law_ = false;  ///< last period's input: the softened QP's or the LQR fallback's (monitor skips)
   // Kalman filter (estimator "kalman").
