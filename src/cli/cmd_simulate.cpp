@@ -1,5 +1,5 @@
 // tmpc simulate --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--plant el|mujoco]
-//   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit]
+//   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit] [--no-join]
 //   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman|switched] --out DIR
 // A scenario flown in-process on a virtual clock: telemetry.csv and metrics.json. The
 // plant is the artifact's vehicle (or --config's: a plant other than the one designed
@@ -27,7 +27,7 @@ namespace {
 struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
-  bool no_disturbance = false, reinit = false;
+  bool no_disturbance = false, reinit = false, no_join = false;
   std::string tube_law;
   double observer_gain = 0.0;
   std::string observer;
@@ -123,6 +123,7 @@ void run_simulate(const SimOptions& o) {
   m.duration = o.duration;
   m.run = o.run;
   m.reinitialize_nominal = o.reinit;
+  m.reference_join = !o.no_join;
   m.tube_law = o.tube_law;
   m.observer_gain = o.observer_gain;
   m.observer = o.observer;
@@ -170,6 +171,7 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--seed", o->seed, "Monte Carlo seed (default: the scenario's plant.random.seed)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("--reinit", o->reinit, "re-initialise the nominal state to the measured error when admissible");
+  sub->add_flag("--no-join", o->no_join, "fly a start off the reference without the reference join (straight to the mission's reference)");
   sub->add_option("--tube-law", o->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
   sub->add_option("--observer", o->observer, "offset-free observer: residual, kalman or switched (default: the artifact's)")

@@ -80,6 +80,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   const double T = a.sample_time;
   const long K = std::lround(duration / T);
   TrackingError err(kinds, a.integrated), truth(kinds, a.integrated);
+  if (o.reference_join) err.set_join(reference_join_settings(a));  // the law's error; the truth stays the mission's
   Eigen::VectorXd u_prev = Eigen::VectorXd::Zero(m);
   Eigen::VectorXd judged(a.n);
   std::vector<double> solve;

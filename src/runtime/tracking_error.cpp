@@ -21,6 +21,12 @@ void TrackingError::measured(const Eigen::VectorXd& x, const Eigen::VectorXd& x_
 
 const Eigen::VectorXd& TrackingError::update(const Eigen::VectorXd& x, const Eigen::VectorXd& x_r) {
   measured(x, x_r, xt_);
+  if (join_pending_) {
+    join_.start(xt_);
+    join_pending_ = false;
+    t_ = 0.0;
+  }
+  join_.apply(t_, xt_);
   xt_.tail(integral_.size()) = integral_;
   return xt_;
 }
@@ -29,11 +35,19 @@ void TrackingError::integrate(double dt) {
   for (std::size_t i = 0; i < integrated_.size(); ++i) {
     integral_(static_cast<Eigen::Index>(i)) += dt * xt_(integrated_[i]);
   }
+  t_ += dt;
+}
+
+void TrackingError::set_join(ReferenceJoinSettings s) {
+  join_pending_ = s.enabled();
+  join_ = ReferenceJoin(std::move(s));
 }
 
 void TrackingError::reset() {
   integral_.setZero();
   xt_.setZero();
+  join_.stop();
+  join_pending_ = join_.offset().size() > 0;  // set_join() with a join: plan it again
 }
 
 }  // namespace tmpc

@@ -613,3 +613,43 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
 
 }  // namespace
 }  // namespace tmpc
+
+namespace tmpc {
+namespace {
+
+// README "Scenarios": a start off the reference (scenarios/start_offset.yaml: 0.6, 0.5
+// and 0.4 m, 0.05 rad, the thesis' steps) is joined from where the vehicle is
+// (runtime/reference_join.hpp): no violation, no softened QP, no fallback. Straight to
+// the mission's reference (reference_join off) the hard QP is infeasible at the start
+// and the softened law flies the load past its speed bound. A hover started 0.9 m off
+// along x, nearly the whole position box, is joined the same way.
+TEST(Scenarios, AStartOffTheReferenceIsJoinedWithoutAViolation) {
+  const MissionMetrics joined = test::fly("start_offset");
+  EXPECT_FALSE(joined.diverged);
+  EXPECT_EQ(joined.state_constraint_violations, 0);
+  EXPECT_EQ(joined.softened_periods, 0);
+  EXPECT_EQ(joined.fallback_periods, 0);
+  EXPECT_NEAR(joined.max_abs_error[0], 0.6, 2e-3);  // the start
+  MissionOptions o;
+  o.reference_join = false;
+  const MissionMetrics straight = run_mission(test::artifact(), test::shipped_scenario("start_offset"), o);
+  std::printf("without the join: violations %ld (worst %s %.2f), softened %ld\n", straight.state_constraint_violations,
+              straight.violation_worst_state.c_str(), straight.violation_max_ratio, straight.softened_periods);
+  EXPECT_GT(straight.state_constraint_violations, 10);
+  EXPECT_GT(straight.softened_periods, 10);
+  Scenario hover = test::shipped_scenario("start_offset");
+  hover.trajectory = make_hover(HoverShape{Eigen::Vector3d(0, 0, 2), 0.0});
+  hover.start_position_offset = Eigen::Vector3d(0.9, 0.0, 0.0);
+  hover.start_yaw_offset = 0.0;
+  hover.disturbances = DisturbanceProfile(std::vector<DisturbanceEvent>{});
+  o.reference_join = true;
+  o.duration = 25.0;
+  const MissionMetrics far = run_mission(test::artifact(), hover, o);
+  std::printf("hover 0.9 m off: violations %ld (worst %s %.2f), softened %ld, x RMSE %.3f m\n", far.state_constraint_violations,
+              far.violation_worst_state.c_str(), far.violation_max_ratio, far.softened_periods, far.rmse[0]);
+  EXPECT_EQ(far.state_constraint_violations, 0);
+  EXPECT_EQ(far.softened_periods, 0);
+}
+
+}  // namespace
+}  // namespace tmpc

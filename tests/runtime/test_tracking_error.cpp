@@ -86,3 +86,96 @@ TEST(TrackingError, AnySizeAndNoWrapOutsideTheYaw) {
 
 }  // namespace
 }  // namespace tmpc
+
+namespace tmpc {
+namespace {
+
+ReferenceJoinSettings three_axis_join() {
+  ReferenceJoinSettings s;
+  s.position_rows = {0, 1, 2};
+  s.velocity_rows = {10, 11, 12};
+  s.speed_limit = Eigen::Vector3d(0.15, 0.25, 0.05);
+  s.acceleration_limit = 0.03;
+  s.dead_zone = Eigen::Vector3d::Constant(0.05);
+  return s;
+}
+
+// The joined reference r + g0 (1 - s(t / T)): it starts at the vehicle (zero position
+// error on the joined rows), its velocity shift is the derivative of its position
+// shift (central differences), its peak speed and acceleration stay within the limits
+// on every axis with one of them reached (T the shortest), and after T it is the
+// mission's reference again. Offsets inside the dead zone are not joined.
+TEST(ReferenceJoin, StartsAtTheVehicleAndReturnsWithinItsSpeedAndAccelerationLimits) {
+  ReferenceJoin j(three_axis_join());
+  Eigen::VectorXd e0 = Eigen::VectorXd::Zero(20);
+  e0.head(3) << -0.6, 0.5, 0.03;  // z: inside the dead zone
+  e0(10) = 0.01;
+  j.start(e0);
+  ASSERT_TRUE(j.active());
+  EXPECT_EQ(j.offset(), Eigen::Vector3d(-0.6, 0.5, 0.0));
+  // x: speed 1.875 * 0.6 / 0.15 = 7.5 s, acceleration sqrt(5.7735 * 0.6 / 0.03) = 10.75 s.
+  EXPECT_NEAR(j.duration(), std::sqrt(5.7735 * 0.6 / 0.03), 1e-9);
+  Eigen::VectorXd e = e0;
+  j.apply(0.0, e);
+  EXPECT_NEAR(e(0), 0.0, 1e-15);
+  EXPECT_NEAR(e(1), 0.0, 1e-15);
+  EXPECT_EQ(e(2), 0.03);  // not joined
+  EXPECT_EQ(e(10), 0.01);  // at rest at the start
+  const auto shift = [&](double t) {
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(20);
+    j.apply(t, z);
+    return z;  // -(g0 (1 - s)) on positions, g0 s' / T on velocities
+  };
+  const double T = j.duration(), h = 1e-4;
+  double v_peak[2] = {0, 0}, a_peak[2] = {0, 0};
+  for (double t = h; t < T - h; t += T / 997.0) {
+    const Eigen::VectorXd m = shift(t - h), c = shift(t), p = shift(t + h);
+    for (int i = 0; i < 2; ++i) {
+      // The velocity row's shift is the derivative of the position row's: e_j' = d e_j / dt.
+      EXPECT_NEAR(c(10 + i), (p(i) - m(i)) / (2 * h), 1e-7) << "t " << t;
+      v_peak[i] = std::max(v_peak[i], std::abs(c(10 + i)));
+      a_peak[i] = std::max(a_peak[i], std::abs((p(10 + i) - m(10 + i)) / (2 * h)));
+    }
+  }
+  EXPECT_LE(v_peak[0], 0.15 * (1 + 1e-6));
+  EXPECT_LE(v_peak[1], 0.25 * (1 + 1e-6));
+  EXPECT_LE(std::max(a_peak[0], a_peak[1]), 0.03 * (1 + 1e-4));
+  EXPECT_GT(a_peak[0], 0.03 * 0.999);  // the binding limit is reached
+  EXPECT_TRUE(shift(T).isZero(0.0));
+  EXPECT_TRUE(shift(T + 5.0).isZero(0.0));
+  // Every offset in the dead zone (a sensor's noise or bias at the start): no join.
+  e0.head(3) << 0.04, -0.05, 0.0;
+  j.start(e0);
+  EXPECT_FALSE(j.active());
+  EXPECT_TRUE(shift(1.0).isZero(0.0));
+  EXPECT_THROW(ReferenceJoin(ReferenceJoinSettings{{0}, {}, Eigen::VectorXd(), 0.1, Eigen::VectorXd()}), std::invalid_argument);
+}
+
+// The tracking error with the join: the integrals integrate the joined error, and a
+// reset() (a restart of the law) plans the join again from the next state.
+TEST(ReferenceJoin, TheTrackingErrorIntegratesTheJoinedErrorAndRestartsIt) {
+  TrackingError e = tiltrotor_error();
+  e.set_join(three_axis_join());
+  Eigen::VectorXd x = reference(0.0);
+  x(0) += 0.4;
+  const Eigen::VectorXd& xt = e.update(x, reference(0.0));
+  EXPECT_NEAR(xt(0), 0.0, 1e-15);
+  EXPECT_TRUE(e.join().active());
+  double integral = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    const double now = e.update(x, reference(0.0))(0);
+    EXPECT_NEAR(e.value()(20), integral, 1e-12);
+    integral += 0.012 * now;
+    e.integrate(0.012);
+  }
+  EXPECT_GT(integral, 0.0);
+  EXPECT_LT(integral, 0.4 * 1.2);  // far less than the unjoined 0.4 m for 1.2 s
+  e.reset();
+  x(0) = reference(0.0)(0) - 0.2;
+  EXPECT_NEAR(e.update(x, reference(0.0))(0), 0.0, 1e-15);
+  EXPECT_NEAR(e.join().offset()(0), -0.2, 1e-15);
+  EXPECT_EQ(e.value()(20), 0.0);
+}
+
+}  // namespace
+}  // namespace tmpc

@@ -23,6 +23,7 @@ struct MissionOptions {
   int run = -1;                   ///< Monte Carlo run (the scenario's plant.random), -1: none
   long seed = -1;                 ///< its seed, -1: the scenario's
   bool reinitialize_nominal = false;
+  bool reference_join = true;     ///< join the reference from a start off it (runtime/reference_join.hpp)
   std::string tube_law;           ///< "" (the artifact's), "mayne" or "offset-free"
   double observer_gain = 0.0;     ///< > 0: overrides the artifact's
   std::string observer;           ///< "" (the artifact's), "residual", "kalman" or "switched"

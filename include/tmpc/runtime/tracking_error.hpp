@@ -1,6 +1,9 @@
 // The error state of the tube controller, thesis (5.5)-(5.7): x_tilde = (x - x_r for
 // the measured states, yaw differences wrapped to (-pi, pi], then the integrals of the
-// configured errors: the tiltrotor's x, y, z, psi), sized by the artifact.
+// configured errors: the tiltrotor's x, y, z, psi), sized by the artifact; with a
+// reference join (reference_join.hpp) the positions and velocities relative to the
+// joined reference, planned at the first update() after construction or reset(), and
+// the integrals of those.
 #pragma once
 
 #include <string>
@@ -9,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "tmpc/model/state_layout.hpp"
+#include "tmpc/runtime/reference_join.hpp"
 
 namespace tmpc {
 
@@ -24,6 +28,9 @@ class TrackingError {
   /// After the period: integrate the configured errors over dt (rectangle rule, 5.7).
   void integrate(double dt);
   void reset();
+  /// Join the reference from the first measured error (disabled settings: no join).
+  void set_join(ReferenceJoinSettings s);
+  const ReferenceJoin& join() const { return join_; }
   const Eigen::VectorXd& value() const { return xt_; }
   int measured_states() const { return static_cast<int>(kinds_.size()); }
 
@@ -31,6 +38,9 @@ class TrackingError {
   std::vector<StateKind> kinds_;
   std::vector<int> integrated_;
   Eigen::VectorXd xt_, integral_;
+  ReferenceJoin join_;
+  bool join_pending_ = false;
+  double t_ = 0.0;  ///< s since the join's start (integrate()'s steps)
 };
 
 }  // namespace tmpc
