@@ -53,7 +53,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   io::Decoder decoder(state_decoder_settings(a.link, kinds));
   const int watchdog = o.silent_periods > 0 ? o.silent_periods : a.link.watchdog_periods;
   TrackingError err(kinds, a.integrated);
-  err.set_join(reference_join_settings(a));  // planned again at every restart (err.reset())
+  if (o.reference_join) err.set_join(reference_join_settings(a));  // planned again at every restart (err.reset())
   std::unique_ptr<TelemetryWriter> telemetry;
   if (!o.telemetry_csv.empty()) {
     telemetry = std::make_unique<TelemetryWriter>(

@@ -183,14 +183,19 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       xi_pred_.noalias() += B_a_ * u_prev_n_;
     } else if (from_prior_) {
       // The first period after reset(): predicted = the prior; the integrals measured.
-      // A row whose first measurement lies more than kPriorGate_sigmas of its noise
-      // from the prior refutes it (a vehicle started or engaged off its reference: a
-      // 0.3 m offset through the steady-state gain read as a load swing and kicked the
-      // servo rates to twice their bound); that row starts at its measurement.
+      // A position or yaw row whose first measurement lies more than kPriorGate_sigmas
+      // of its noise from the prior refutes it (a vehicle started or engaged off its
+      // reference: a 0.3 m offset through the steady-state gain read as a load swing
+      // and kicked the servo rates to twice their bound); that row starts at its
+      // measurement. The other rows keep the prior: a vehicle starts near rest and
+      // level, and sensor noise beyond the design's refuted their prior too often
+      // (three times the design noise: a servo rate 2.8 times its bound, not 1.8).
       x_hat_.tail(ni) = x_n_.tail(ni);
       xi_pred_ = xi_;
       for (std::size_t j = 0; j < rows_.size(); ++j) {
         const int r = rows_[j];
+        const StateKind kind = a_.kinds[static_cast<std::size_t>(r)];
+        if (kind != StateKind::Position && kind != StateKind::Yaw) continue;
         if (std::abs(x_n_(r) - xi_pred_(r)) > kPriorGate_sigmas * a_.estimator_noise(static_cast<Eigen::Index>(j))) {
           xi_pred_(r) = x_n_(r);
         }

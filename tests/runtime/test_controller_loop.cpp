@@ -259,6 +259,38 @@ TEST(ControllerLoop, ARestartedPlantIsANewSessionAndTheLawRestartsFromIt) {
   EXPECT_EQ(columns(last)[static_cast<std::size_t>(at("rejected_session"))], "1");
 }
 
+// A closed loop whose state reads 0.5 m off the reference along x from its first frame
+// (README "A start off the reference"; the Euler-Lagrange plant): the loop joins the
+// reference from it at the law's start, so the hard QP stays feasible; straight to the
+// reference the law flies the load fast enough that the hard QP turns infeasible (this
+// test's optimizer is the plain ADMM, without the softened QP: the LQR fallback flies).
+TEST(ControllerLoop, TheLawJoinsTheReferenceFromAStartOffIt) {
+  const Config cfg = test::quick_config();
+  const auto fly = [&](bool join) {
+    Eigen::VectorXd off = Eigen::VectorXd::Zero(20);
+    off(0) = 0.5;
+    test::SimulatedPlantLink link(cfg, helix(), [&](int, io::StateFrame f) { return test::offset_bytes(f, off); });
+    VirtualClock clock(artifact().sample_time);
+    ScriptedOptimizer opt(clock, [](int) { return std::int64_t{1000000}; });
+    std::atomic<bool> stop{false};
+    ControllerLoopOptions o;
+    o.trajectory = test::thesis_helix();
+    o.duration_s = 300 * artifact().sample_time;
+    o.reference_join = join;
+    ControllerLoopSeams seams;
+    seams.clock = &clock;
+    seams.optimizer = &opt;
+    return run_controller_loop(artifact(), link, o, stop, seams);
+  };
+  const ControllerLoopStats joined = fly(true), straight = fly(false);
+  std::printf("0.5 m off: softened %ld, fallback %ld periods joined; %ld, %ld straight\n", joined.softened_periods,
+              joined.fallback_periods, straight.softened_periods, straight.fallback_periods);
+  EXPECT_EQ(joined.restarts, 1);
+  EXPECT_EQ(joined.softened_periods, 0);
+  EXPECT_EQ(joined.fallback_periods, 0);
+  EXPECT_GT(straight.fallback_periods, 40);  // 83
+}
+
 TEST(ControllerLoop, ImplausibleValuesNeverReachTheController) {
   Eigen::VectorXd spin = Eigen::VectorXd::Zero(20);
   spin(13) = 99.0;  // 99 rad/s roll rate

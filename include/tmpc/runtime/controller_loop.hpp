@@ -37,6 +37,7 @@ struct ControllerLoopOptions {
   double deadline_fraction = 0.8;    ///< the optimizer's result counts until this fraction of the period
   int silent_periods = 0;            ///< watchdog periods; 0: the artifact's link.watchdog_periods
   double duration_s = 0.0;           ///< stop after this long (0: when `stop` is set)
+  bool reference_join = true;        ///< join the reference from the first state of each restart (reference_join.hpp)
   RealTimeSettings realtime;
   std::string telemetry_csv;         ///< empty: no telemetry file
   std::uint32_t session = 0;         ///< this process's session id on the link; 0: drawn at start
