@@ -1,9 +1,9 @@
 // The real-time processes:
 //   tmpc controller --controller FILE.tmpc --port DEV [--scenario FILE] [--baud] [--solver] [--rt-priority]
-//                   [--cpu] [--duration] [--telemetry FILE]  the on-board program
+//                   [--cpu] [--duration] [--telemetry FILE] [--no-join]  the on-board program
 //   tmpc plant --config FILE --port DEV [--scenario FILE] [--baud] [--duration] [--no-disturbance] [--run K]
 //                                                         the scenario's plant over serial
-//   tmpc hil --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--duration] [--out DIR]
+//   tmpc hil --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--duration] [--out DIR] [--no-join]
 //                                                         both, over a pseudo-terminal pair
 #include <atomic>
 #include <csignal>
@@ -83,7 +83,7 @@ struct RtCli {
   int baud = 921600, priority = 0, cpu = -1, run = -1;
   long seed = -1;
   double duration = 0.0;
-  bool no_disturbance = false;
+  bool no_disturbance = false, no_join = false;
 };
 
 Scenario scenario_of(const RtCli& o) {
@@ -100,6 +100,7 @@ ControllerLoopOptions controller_options(const RtCli& o, const ControllerArtifac
   c.trajectory = sc.trajectory;
   c.solver = resolve_solver(o.solver, a, o.tube_law, c.deadline_fraction, "tmpc controller", &c.solver_note);
   c.tube_law = o.tube_law;
+  c.reference_join = !o.no_join;
   c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   c.duration_s = o.duration;
   c.realtime.priority = o.priority;
@@ -213,6 +214,7 @@ void register_realtime(CLI::App& app) {
   sc->add_option("--rt-priority", c->priority, "SCHED_FIFO priority 1..99 (0: none)")->check(CLI::Range(0, 99));
   sc->add_option("--cpu", c->cpu, "pin the loop to this CPU");
   sc->add_option("--telemetry", c->telemetry, "telemetry CSV to write");
+  sc->add_flag("--no-join", c->no_join, "a start off the reference straight to it, without the reference join");
   common(sc, *c);
   sc->callback([c]() { run_controller(*c); });
 
@@ -242,6 +244,7 @@ void register_realtime(CLI::App& app) {
   sh->add_option("--seed", h->seed, "Monte Carlo seed (default: the scenario's)");
   sh->add_option("--rt-priority", h->priority, "SCHED_FIFO priority of the controller loop")->check(CLI::Range(0, 99));
   sh->add_option("--out", h->out, "output directory (metrics.json, telemetry.csv)");
+  sh->add_flag("--no-join", h->no_join, "a start off the reference straight to it, without the reference join");
   common(sh, *h);
   sh->callback([h]() { run_hil(*h); });
 }

@@ -35,6 +35,17 @@ struct SimOptions {
   long seed = -1;
 };
 
+/// "(-0.6, 0.5, -0.4)": the join's offset per position row.
+std::string join_text(const std::vector<double>& g) {
+  std::string t = "(";
+  char buf[32];
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%.3g", i ? ", " : "", g[i]);
+    t += buf;
+  }
+  return t + ")";
+}
+
 void print_metrics(const MissionMetrics& r) {
   std::printf("  RMSE");
   for (std::size_t i = 0; i < std::min<std::size_t>(3, r.rmse.size()); ++i) {
@@ -55,6 +66,9 @@ void print_metrics(const MissionMetrics& r) {
   if (r.softened_periods > 0) {
     std::printf("  softened QP (hard QP infeasible) in %ld periods; largest slack %.4g in %s\n", r.softened_periods,
                 r.slack_max, r.slack_worst_state.c_str());
+  }
+  if (!r.join_offset.empty()) {
+    std::printf("  reference join: from %s m off over %.2f s\n", join_text(r.join_offset).c_str(), r.join_duration);
   }
   if (r.offset_free) {
     std::printf("  observer: %s", r.estimator.c_str());

@@ -196,6 +196,10 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
       csv << "\n";
     }
   }
+  if (err.join().active()) {
+    mm.join_offset.assign(err.join().offset().data(), err.join().offset().data() + err.join().offset().size());
+    mm.join_duration = err.join().duration();
+  }
   const auto most = std::max_element(worst_count.begin(), worst_count.end());
   if (mm.tube_exits > 0) mm.tube_worst_state = a.state_names[static_cast<std::size_t>(most - worst_count.begin())];
   const double n = std::max<double>(1.0, static_cast<double>(mm.periods));
@@ -247,6 +251,7 @@ std::string metrics_json(const MissionMetrics& m) {
   j["box_peak_ratio"] = peak;
   j["softened"] = {{"periods", m.softened_periods}, {"slack_max", m.slack_max}, {"worst_state", m.slack_worst_state}};
   j["estimator"] = m.estimator;
+  if (!m.join_offset.empty()) j["reference_join"] = {{"offset", m.join_offset}, {"duration_s", m.join_duration}};
   j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;

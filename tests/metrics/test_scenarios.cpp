@@ -630,6 +630,10 @@ TEST(Scenarios, AStartOffTheReferenceIsJoinedWithoutAViolation) {
   EXPECT_EQ(joined.softened_periods, 0);
   EXPECT_EQ(joined.fallback_periods, 0);
   EXPECT_NEAR(joined.max_abs_error[0], 0.6, 2e-3);  // the start
+  ASSERT_EQ(joined.join_offset.size(), 3u);
+  EXPECT_NEAR(joined.join_offset[0], -0.6, 1e-3);
+  EXPECT_NEAR(joined.join_offset[2], -0.4, 1e-3);
+  EXPECT_NEAR(joined.join_duration, 1.875 * joined.join_offset[2] / (-0.25 * 0.2), 1e-9);  // 15 s: z's speed bound
   const double rmse[3] = {0.166, 0.139, 0.108};  // the README's table: the join counted
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(joined.rmse[static_cast<std::size_t>(i)], rmse[i], 0.02 * rmse[i]) << i;
   MissionOptions o;

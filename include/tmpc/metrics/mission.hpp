@@ -72,6 +72,8 @@ struct MissionMetrics {
   std::string solver, plant, scenario;
   std::string estimator;                    ///< "residual", "kalman" or "switched" (offset-free law)
   long filtered_periods = 0;                ///< periods flown on the Kalman filter's estimate
+  std::vector<double> join_offset;          ///< the reference join's g0 (m, its position rows; empty: no join)
+  double join_duration = 0.0;               ///< its T (s)
   long observer_switches = 0;               ///< switched observer: changes between filter and measurement
   double noise_level_max = 0.0;             ///< switched observer: the monitor's largest level
   bool offset_free = false;                 ///< the tube law flown
