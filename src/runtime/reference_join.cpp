@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tmpc/synthesis/artifact.hpp"
+
 namespace tmpc {
 
 ReferenceJoinSettings reference_join_settings(const ControllerArtifact& a) {

@@ -47,7 +47,7 @@ void TrackingError::reset() {
   integral_.setZero();
   xt_.setZero();
   join_.stop();
-  join_pending_ = join_.offset().size() > 0;  // set_join() with a join: plan it again
+  join_pending_ = join_.enabled();  // plan it again from the next state
 }
 
 }  // namespace tmpc

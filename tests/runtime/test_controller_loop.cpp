@@ -110,6 +110,20 @@ LoopRun run_loop(std::vector<std::vector<std::uint8_t>> frames, int periods,
   return r;
 }
 
+/// The loop over a closed-loop link (the trajectory: the thesis helix) for `periods`
+/// periods on a virtual clock, each solve taking 1 ms.
+ControllerLoopStats run_closed_loop(io::Transport& link, int periods, ControllerLoopOptions o = {}) {
+  VirtualClock clock(artifact().sample_time);
+  ScriptedOptimizer opt(clock, [](int) { return std::int64_t{1000000}; });
+  std::atomic<bool> stop{false};
+  o.trajectory = test::thesis_helix();
+  o.duration_s = periods * artifact().sample_time;
+  ControllerLoopSeams seams;
+  seams.clock = &clock;
+  seams.optimizer = &opt;
+  return run_controller_loop(artifact(), link, o, stop, seams);
+}
+
 TEST(ControllerLoop, FallbackExactlyWhenTheOptimizerIsLateOrBusy) {
   // Solve 2 takes 30 ms: late in period 2 (deadline 9.6 ms), still running at the
   // start of periods 3 and 4 (12 and 24 ms after it started), done before period 5.
@@ -192,16 +206,7 @@ TEST(ControllerLoop, ALoneImplausibleFrameIsMissingAndASustainedJumpIsAdopted) {
     if (k == 30) f.time -= 10.0;
     return test::offset_bytes(f, k >= 40 ? moved : Eigen::VectorXd::Zero(20));
   });
-  VirtualClock clock(artifact().sample_time);
-  ScriptedOptimizer opt(clock, [](int) { return std::int64_t{1000000}; });
-  std::atomic<bool> stop{false};
-  ControllerLoopOptions o;
-  o.trajectory = test::thesis_helix();
-  o.duration_s = 120 * artifact().sample_time;
-  ControllerLoopSeams seams;
-  seams.clock = &clock;
-  seams.optimizer = &opt;
-  const ControllerLoopStats st = run_controller_loop(artifact(), link, o, stop, seams);
+  const ControllerLoopStats st = run_closed_loop(link, 120);
   EXPECT_EQ(st.periods, 120);
   EXPECT_EQ(st.link[io::Reject::Jump], 1 + 2);  // the 100 m frame; two of the reset before it is adopted
   EXPECT_EQ(st.link[io::Reject::Time], 1);      // 10 s in the past
@@ -270,17 +275,9 @@ TEST(ControllerLoop, TheLawJoinsTheReferenceFromAStartOffIt) {
     Eigen::VectorXd off = Eigen::VectorXd::Zero(20);
     off(0) = 0.5;
     test::SimulatedPlantLink link(cfg, helix(), [&](int, io::StateFrame f) { return test::offset_bytes(f, off); });
-    VirtualClock clock(artifact().sample_time);
-    ScriptedOptimizer opt(clock, [](int) { return std::int64_t{1000000}; });
-    std::atomic<bool> stop{false};
     ControllerLoopOptions o;
-    o.trajectory = test::thesis_helix();
-    o.duration_s = 300 * artifact().sample_time;
     o.reference_join = join;
-    ControllerLoopSeams seams;
-    seams.clock = &clock;
-    seams.optimizer = &opt;
-    return run_controller_loop(artifact(), link, o, stop, seams);
+    return run_closed_loop(link, 300, o);
   };
   const ControllerLoopStats joined = fly(true), straight = fly(false);
   std::printf("0.5 m off: softened %ld, fallback %ld periods joined; %ld, %ld straight\n", joined.softened_periods,
