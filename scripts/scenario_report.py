@@ -9,7 +9,7 @@ For each design (shipped: config/tiltrotor.yaml, its switched observer; residual
 artifact flown with `--observer residual`, the one-step residual observer alone; noisy:
 config/tiltrotor_noisy.yaml, the Kalman filter always) `tmpc design` (once per
 configuration), then `tmpc simulate` of each scenario
-(config/scenarios/NAME.yaml; masses_30 as a Monte Carlo campaign of --runs runs), and
+(config/scenarios/NAME.yaml; masses_30 and masses_30_noisy as Monte Carlo campaigns of --runs runs), and
 prints one markdown table row per flight with what the issue asks to report: RMSE x, y,
 z; the servo-rate peak (the larger of |d_alpha_r| and |d_alpha_l| over its bound,
 metrics.json box_peak_ratio) and the largest |x_i| / bound of any state; state-constraint
@@ -34,8 +34,8 @@ DESIGNS = {
     "noisy": ("config/tiltrotor_noisy.yaml", None),
 }
 SCENARIOS = ["thesis_helix", "noisy_sensors", "gusts", "sustained_force", "masses_30",
-             "noisy_sensors_x2", "gusts_2n"]
-CAMPAIGNS = {"masses_30"}
+             "masses_30_noisy", "noisy_sensors_x2", "gusts_2n"]
+CAMPAIGNS = {"masses_30", "masses_30_noisy"}
 SERVO_RATES = ["d_alpha_r", "d_alpha_l"]
 
 

@@ -301,6 +301,13 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
       e.process_residual = q.positive("residual");
       q.finish();
     }
+    if (s.has("start_prior")) {
+      Section q = s.section("start_prior");
+      e.start_force = q.number_in("force", 0.0, 1e4);
+      if (q.has("residual")) e.start_residual = q.number_in("residual", 0.0, 1e3);
+      if (q.has("state")) e.start_state = q.number_in("state", 0.0, 1e3);
+      q.finish();
+    }
     e.output_feedback_tube = s.has("output_feedback_tube") && s.flag("output_feedback_tube");
     if (s.has("output_feedback_noise")) e.output_feedback_noise = s.text("output_feedback_noise", {"bounded", "gaussian"});
     if (s.has("noise_bound_sigmas")) e.noise_bound_sigmas = s.number_in("noise_bound_sigmas", 0.5, 10.0);

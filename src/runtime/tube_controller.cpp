@@ -80,6 +80,9 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       A_a_ = k.A_a;
       B_a_ = k.B_a;
       L_kf_ = a.estimator_L;
+      if (a.filter_start_scheduled()) {
+        L_start_ = start_gains(k, start_covariance(k, a.D.cols(), a.estimator_start(0), a.estimator_start(1), a.estimator_start(2)));
+      }
       E_c_ = a.estimator_E_c;
       rows_ = a.estimator_rows;
       xi_ = xi_pred_ = Eigen::VectorXd::Zero(k.A_a.rows());
@@ -119,6 +122,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
     xi_.setZero();
     x_hat_.setZero();
     from_prior_ = true;
+    kf_step_ = 0;
   }
   d_hat_.setZero();
   c_hat_.setZero();
@@ -208,7 +212,9 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     }
     for (std::size_t j = 0; j < rows_.size(); ++j) innov_(static_cast<Eigen::Index>(j)) = x_n_(rows_[j]) - xi_pred_(rows_[j]);
     xi_ = xi_pred_;
-    xi_.noalias() += L_kf_ * innov_;
+    const Eigen::MatrixXd& gain = kf_step_ < L_start_.size() ? L_start_[kf_step_] : L_kf_;
+    ++kf_step_;
+    xi_.noalias() += gain * innov_;
     x_hat_.head(p) = xi_.head(p);
     d_kf_ = xi_.segment(p, d_kf_.size());
     c_kf_.head(p).noalias() = E_c_ * xi_.tail(E_c_.cols());

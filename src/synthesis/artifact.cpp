@@ -181,6 +181,9 @@ KalmanDesign kalman_model(const ControllerArtifact& a) {
   const int p = a.measured;
   KalmanDesign k = kalman_model(a.A.topLeftCorner(p, p), a.B.topRows(p), a.D.topRows(p), a.estimator_E_c, a.estimator_rows);
   k.L = a.estimator_L;
+  k.P = a.estimator_P;
+  k.Q = a.estimator_Q;
+  k.R = a.estimator_noise.cwiseAbs2().asDiagonal();
   return k;
 }
 
@@ -253,6 +256,9 @@ ControllerArtifact make_artifact(const ControllerDesign& d) {
     a.estimator_L = d.kf.L;
     a.estimator_noise = d.kf.R.diagonal().cwiseSqrt();
     a.estimator_monitor << c.estimation.monitor_residual_below, c.estimation.monitor_filter_above, c.estimation.monitor_window_s;
+    a.estimator_P = d.kf.P;
+    a.estimator_Q = d.kf.Q;
+    a.estimator_start << c.estimation.start_force, c.estimation.start_residual, c.estimation.start_state;
   }
   a.estimation_error_radius = Eigen::VectorXd::Zero(a.n);
   // The applied form's figures (the bounded form's when none is applied).
@@ -336,6 +342,9 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
     p.matrix("estimator_L", a.estimator_L);
     p.matrix("estimator_noise", a.estimator_noise);
     p.matrix("estimator_monitor", a.estimator_monitor);
+    p.matrix("estimator_P", a.estimator_P);
+    p.matrix("estimator_Q", a.estimator_Q);
+    p.matrix("estimator_start", a.estimator_start);
   }
   p.matrix("noise_margin", scalar(a.noise_margin));
   p.matrix("estimation_error_radius", a.estimation_error_radius);
@@ -446,6 +455,9 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
     a.estimator_L = mat("estimator_L", p + a.D.cols() + a.estimator_E_c.cols(), static_cast<Eigen::Index>(a.estimator_rows.size()));
     a.estimator_noise = mat("estimator_noise", static_cast<Eigen::Index>(a.estimator_rows.size()), 1);
     a.estimator_monitor = mat("estimator_monitor", 3, 1);
+    a.estimator_P = mat("estimator_P", a.estimator_L.rows(), a.estimator_L.rows());
+    a.estimator_Q = mat("estimator_Q", a.estimator_L.rows(), a.estimator_L.rows());
+    a.estimator_start = mat("estimator_start", 3, 1);
   }
   a.noise_margin = mat("noise_margin", 1, 1)(0, 0);
   a.estimation_error_radius = mat("estimation_error_radius", n, 1);

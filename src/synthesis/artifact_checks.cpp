@@ -77,6 +77,41 @@ class Checker {
   const std::string& source_;
 };
 
+/// The filter's covariances (artifact.hpp estimator_P, estimator_Q): Q a covariance, P
+/// the stabilizing solution of the filter DARE of (A_a, C, Q, R) and L its gain, so the
+/// start's Riccati recursion (estimator.hpp start_gains()) ends at the gain flown.
+void check_filter_covariances(const Checker& c, const ControllerArtifact& a) {
+  const KalmanDesign k = kalman_model(a);
+  const Eigen::Index na = k.A_a.rows();
+  for (const auto& [name, M] : {std::pair<std::string, const Eigen::MatrixXd*>{"estimator_Q", &k.Q}, {"estimator_P", &k.P}}) {
+    if (!M->allFinite()) c.fail(name, "has a non-finite entry");
+    const double scale = std::max(1e-300, M->cwiseAbs().maxCoeff());
+    if ((*M - M->transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) c.fail(name, "is not symmetric: a covariance is");
+    const double lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (*M + M->transpose())).eigenvalues().minCoeff();
+    if (lmin < -1e-9 * scale) c.fail(name, "has the eigenvalue " + Checker::num(lmin) + ": a covariance is positive semidefinite");
+  }
+  const Eigen::MatrixXd S = k.C * k.P * k.C.transpose() + k.R;
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success) c.fail("estimator_P", "C P C' + R is not positive definite");
+  const Eigen::MatrixXd L = llt.solve(k.C * k.P).transpose();
+  const double gain_gap = (L - k.L).cwiseAbs().maxCoeff() / std::max(1e-300, k.L.cwiseAbs().maxCoeff());
+  if (!(gain_gap <= 1e-6)) {
+    c.fail("estimator_P", "its gain P C' (C P C' + R)^-1 differs from estimator_L by " + Checker::num(gain_gap) +
+                              " (relative): the covariance is not the filter's");
+  }
+  const Eigen::MatrixXd next = k.A_a * (Eigen::MatrixXd::Identity(na, na) - L * k.C) * k.P * k.A_a.transpose() + k.Q;
+  const double dare_gap = (next - k.P).cwiseAbs().maxCoeff() / std::max(1e-300, k.P.cwiseAbs().maxCoeff());
+  if (!(dare_gap <= 1e-6)) {
+    c.fail("estimator_P", "is not a fixed point of the filter's Riccati equation (relative residual " +
+                              Checker::num(dare_gap) + "): the covariance does not match estimator_Q");
+  }
+  const Eigen::Vector3d& s = a.estimator_start;
+  if (!s.allFinite() || (s.array() < 0.0).any()) {
+    c.fail("estimator_start", "is (" + Checker::num(s(0)) + ", " + Checker::num(s(1)) + ", " + Checker::num(s(2)) +
+                                  "): standard deviations are finite and >= 0");
+  }
+}
+
 }  // namespace
 
 void check_artifact(const ControllerArtifact& a, const std::string& source) {
@@ -188,6 +223,7 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
     }
     const double rho = spectral_radius(estimation_error_map(a));
     if (!(rho < 1.0)) c.fail("estimator_L", "the estimation error does not converge (spectral radius of (I - L C) A_a = " + Checker::num(rho) + ")");
+    check_filter_covariances(c, a);
   }
   if (!(a.noise_margin >= 0.0) || !std::isfinite(a.noise_margin)) c.fail("noise_margin", "is " + Checker::num(a.noise_margin));
   if (!(a.estimation_error_radius.array() >= 0.0).all()) c.fail("estimation_error_radius", "has a negative half-width");
@@ -226,6 +262,9 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
     c.near("estimator_monitor", a.estimator_monitor(0), cfg.estimation.monitor_residual_below, 1e-12, "estimation.noise_monitor.residual_below");
     c.near("estimator_monitor", a.estimator_monitor(1), cfg.estimation.monitor_filter_above, 1e-12, "estimation.noise_monitor.filter_above");
     c.near("estimator_monitor", a.estimator_monitor(2), cfg.estimation.monitor_window_s, 1e-12, "estimation.noise_monitor.window");
+    c.near("estimator_start", a.estimator_start(0), cfg.estimation.start_force, 1e-12, "estimation.start_prior.force");
+    c.near("estimator_start", a.estimator_start(1), cfg.estimation.start_residual, 1e-12, "estimation.start_prior.residual");
+    c.near("estimator_start", a.estimator_start(2), cfg.estimation.start_state, 1e-12, "estimation.start_prior.state");
   }
   if (a.soft_constraints != cfg.soft_constraints.enabled) c.fail("soft_constraints", "differs from the embedded configuration's soft_constraints.enabled");
   if (cfg.estimation.output_feedback_tube && !(a.noise_margin >= 1.0 - 1e-9)) {

@@ -135,6 +135,16 @@ std::string design_report_json(const ControllerDesign& d) {
                                                      {"input_error_half_widths", vec(d.of.u_sigmas_v.cwiseQuotient(d.em.N_u))}}
                                                                             : nlohmann::json()}}}};
     const EstimationSettings& e = d.cfg.estimation;
+    // The filter's start (estimator.hpp start_gains()): null without a start prior.
+    if (e.start_force > 0.0 || e.start_residual > 0.0 || e.start_state > 0.0) {
+      const std::size_t periods =
+          start_gains(d.kf, start_covariance(d.kf, d.em.D_n.cols(), e.start_force, e.start_residual, e.start_state)).size();
+      j["estimation"]["start_prior"] = {{"force_std", e.start_force}, {"residual_std", e.start_residual},
+                                        {"state_noise_multiple", e.start_state}, {"scheduled_periods", periods},
+                                        {"scheduled_s", static_cast<double>(periods) * d.em.sample_time}};
+    } else {
+      j["estimation"]["start_prior"] = nlohmann::json();
+    }
     // The switched observer (runtime/noise_monitor.hpp): null without a noise monitor.
     j["estimation"]["noise_monitor"] =
         e.monitor_residual_below > 0.0

@@ -66,6 +66,64 @@ KalmanDesign design_kalman(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, c
   return k;
 }
 
+std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::MatrixXd& P0, double tolerance, int max_steps) {
+  const Eigen::Index na = k.A_a.rows(), ny = k.C.rows();
+  if (P0.rows() != na || P0.cols() != na || k.Q.rows() != na || k.R.rows() != ny || k.L.rows() != na || k.L.cols() != ny) {
+    throw std::invalid_argument("start_gains: P0 and Q must be " + std::to_string(na) + " square, R " + std::to_string(ny) +
+                                " square and L " + std::to_string(na) + "x" + std::to_string(ny));
+  }
+  const double scale = k.L.cwiseAbs().maxCoeff();
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(na, na);
+  std::vector<Eigen::MatrixXd> gains;
+  Eigen::MatrixXd P = 0.5 * (P0 + P0.transpose());
+  for (int step = 0; step < max_steps; ++step) {
+    const Eigen::MatrixXd S = k.C * P * k.C.transpose() + k.R;
+    const Eigen::LLT<Eigen::MatrixXd> llt(S);
+    if (llt.info() != Eigen::Success) throw std::runtime_error("Kalman filter start: C P C' + R is not positive definite at step " + std::to_string(step));
+    Eigen::MatrixXd L = llt.solve(k.C * P).transpose();
+    if (!L.allFinite()) throw std::runtime_error("Kalman filter start: a non-finite gain at step " + std::to_string(step));
+    const bool done = (L - k.L).cwiseAbs().maxCoeff() <= tolerance * scale;
+    gains.push_back(std::move(L));
+    if (done) break;
+    const Eigen::MatrixXd& Lk = gains.back();
+    const Eigen::MatrixXd M = I - Lk * k.C;
+    const Eigen::MatrixXd Pp = M * P * M.transpose() + Lk * k.R * Lk.transpose();
+    P = k.A_a * Pp * k.A_a.transpose() + k.Q;
+    P = 0.5 * (P + P.transpose());
+  }
+  return gains;
+}
+
+Eigen::MatrixXd start_covariance(const KalmanDesign& k, Eigen::Index nd, double force_std, double residual_std,
+                                 double state_noise) {
+  const Eigen::Index na = k.A_a.rows(), p = k.p, nc = na - p - nd;
+  if (k.P.rows() != na || k.R.rows() != k.C.rows() || nd < 0 || nc < 0 || !(force_std >= 0.0) ||
+      !(residual_std >= 0.0) || !(state_noise >= 0.0)) {
+    throw std::invalid_argument("start_covariance: needs the steady P (" + std::to_string(na) + " square), R, nd in [0, " +
+                                std::to_string(na - p) + "] and standard deviations >= 0");
+  }
+  Eigen::MatrixXd P0 = k.P;
+  if (state_noise > 0.0) {
+    const Eigen::VectorXd steady = k.P.diagonal().head(p);
+    P0.topRows(p).setZero();
+    P0.leftCols(p).setZero();
+    for (Eigen::Index i = 0; i < p; ++i) P0(i, i) = steady(i);
+    for (std::size_t j = 0; j < k.measured_rows.size(); ++j) {
+      const Eigen::Index r = k.measured_rows[j], jj = static_cast<Eigen::Index>(j);
+      P0(r, r) = state_noise * state_noise * k.R(jj, jj);
+    }
+  }
+  auto replace = [&](Eigen::Index first, Eigen::Index count, double std_dev) {
+    if (std_dev <= 0.0 || count == 0) return;  // kept: the steady block
+    P0.middleRows(first, count).setZero();
+    P0.middleCols(first, count).setZero();
+    P0.block(first, first, count, count).diagonal().setConstant(std_dev * std_dev);
+  };
+  replace(p, nd, force_std);
+  replace(p + nd, nc, residual_std);
+  return P0;
+}
+
 namespace {
 
 /// RPI set of e+ = S e + w, w in W, over the given loops (the first nominal): the

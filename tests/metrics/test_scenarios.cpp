@@ -129,10 +129,10 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   EXPECT_EQ(noisy.fallback_periods, 0);
   EXPECT_NEAR(noisy.rmse[0], 0.0348, 0.02 * 0.0348);
   EXPECT_NEAR(noisy.rmse[1], 0.0284, 0.02 * 0.0284);
-  EXPECT_NEAR(noisy.rmse[2], 0.0098, 0.02 * 0.0098);
+  EXPECT_NEAR(noisy.rmse[2], 0.0102, 0.02 * 0.0102);
   // The input-rate weight's trade-off: the same design without it (Sigma_delta = 0)
   // passes more of the noise to the inputs (total variation, servo torques 2.47 N m
-  // against 1.79, thrusts 118 N against 87) and tracks z slightly better (0.0093 m).
+  // against 1.79, thrusts 118 N against 87) and tracks z slightly better (0.0096 m).
   ControllerArtifact unrated = a;
   unrated.Sigma_delta.setZero();
   const MissionMetrics chatter = fly("noisy_sensors", unrated);
@@ -147,7 +147,7 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   EXPECT_NEAR(noisy.tcv[2], 1.79, 0.05 * 1.79);
   EXPECT_NEAR(chatter.tcv[0], 118.0, 0.05 * 118.0);
   EXPECT_NEAR(noisy.tcv[0], 87.0, 0.05 * 87.0);
-  EXPECT_NEAR(chatter.rmse[2], 0.0093, 0.02 * 0.0093);
+  EXPECT_NEAR(chatter.rmse[2], 0.0096, 0.02 * 0.0096);
   // Ten times that weight (100 x lambda): less variation still, z a little worse.
   ControllerArtifact heavier = a;
   heavier.Sigma_delta *= 10.0;
@@ -155,7 +155,7 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   EXPECT_EQ(calm.state_constraint_violations, 0);
   EXPECT_NEAR(calm.tcv[2], 1.53, 0.05 * 1.53);
   EXPECT_NEAR(calm.tcv[0], 79.0, 0.05 * 79.0);
-  EXPECT_NEAR(calm.rmse[2], 0.0108, 0.02 * 0.0108);
+  EXPECT_NEAR(calm.rmse[2], 0.0111, 0.02 * 0.0111);
   // Why the shipped design has none: 10 x lambda moves its noise-free z RMSE from
   // 0.0021 to 0.0029 m (the issue allows 10 %).
   ControllerArtifact shipped_rated = test::artifact();
@@ -185,8 +185,8 @@ TEST(Scenarios, TheNoisySensorDesignFliesOtherTracksAndSeedsThroughTheNoise) {
     const char* name;
     double x, y, z;  // RMSE, m (README)
   };
-  for (const Track& t : {Track{"figure_eight", 0.0347, 0.0283, 0.0099}, Track{"waypoints", 0.0288, 0.0275, 0.0054},
-                         Track{"lissajous_csv", 0.0364, 0.0117, 0.0051}}) {
+  for (const Track& t : {Track{"figure_eight", 0.0347, 0.0283, 0.0102}, Track{"waypoints", 0.0288, 0.0275, 0.0060},
+                         Track{"lissajous_csv", 0.0364, 0.0117, 0.0059}}) {
     Scenario s = test::shipped_scenario(t.name);
     s.noise = noise;
     const MissionMetrics m = run_mission(a, s, MissionOptions{});
@@ -197,7 +197,7 @@ TEST(Scenarios, TheNoisySensorDesignFliesOtherTracksAndSeedsThroughTheNoise) {
     EXPECT_EQ(m.fallback_periods, 0) << t.name;
     expect_rmse(m, t.x, t.y, t.z);
   }
-  const std::array<std::array<double, 2>, 3> seeds = {{{1.0, 0.0114}, {2.0, 0.0103}, {7.0, 0.0117}}};  // seed, z RMSE
+  const std::array<std::array<double, 2>, 3> seeds = {{{1.0, 0.0115}, {2.0, 0.0104}, {7.0, 0.0117}}};  // seed, z RMSE
   for (const auto& [seed, z] : seeds) {
     Scenario s = test::shipped_scenario("noisy_sensors");
     s.noise.seed = static_cast<std::uint32_t>(seed);
@@ -246,7 +246,7 @@ TEST(Scenarios, TheSwitchedObserverFliesCleanAndNoisySensorsWithOneController) {
   EXPECT_EQ(noisy.state_constraint_violations, 0);
   EXPECT_EQ(noisy.fallback_periods, 0);
   EXPECT_EQ(noisy.filtered_periods, noisy.periods);
-  expect_rmse(noisy, 0.0346, 0.0283, 0.0093);
+  expect_rmse(noisy, 0.0346, 0.0283, 0.0096);
 
   Scenario tenth = test::shipped_scenario("noisy_sensors");  // 0.5 mm, 0.03 deg
   for (double& w : tenth.noise.white) w *= 0.1;
@@ -276,7 +276,7 @@ TEST(Scenarios, WithoutVelocitySensorsTheFilterEstimatesThemAndTheNoiseIsFlown) 
   EXPECT_FALSE(noisy.diverged);
   EXPECT_EQ(noisy.state_constraint_violations, 0);
   EXPECT_EQ(noisy.fallback_periods, 0);
-  expect_rmse(noisy, 0.0355, 0.0291, 0.0148);
+  expect_rmse(noisy, 0.0355, 0.0291, 0.0154);
   const MissionMetrics quiet = fly("thesis_helix", a);
   EXPECT_EQ(quiet.state_constraint_violations, 0);
   EXPECT_EQ(quiet.fallback_periods, 0);
@@ -343,7 +343,7 @@ TEST(Scenarios, TheGaussianOutputFeedbackTubeFliesTheNoiseAndIsTighterUnderForce
   EXPECT_EQ(noisy.state_constraint_violations, 0);
   EXPECT_EQ(noisy.fallback_periods, 0);
   EXPECT_NEAR(static_cast<double>(noisy.softened_periods), 107.0, 0.1 * 107.0);
-  expect_rmse(noisy, 0.0338, 0.0284, 0.0099);
+  expect_rmse(noisy, 0.0338, 0.0284, 0.0102);
   const MissionMetrics quiet = fly("thesis_helix", a);
   EXPECT_EQ(quiet.state_constraint_violations, 0);
   EXPECT_EQ(quiet.fallback_periods, 0);
@@ -370,7 +370,7 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   EXPECT_NEAR(loud.violation_max_ratio, 1.20, 0.05 * 1.20);  // a servo rate
   EXPECT_NEAR(loud.rmse[0], 0.0464, 0.02 * 0.0464);
   EXPECT_NEAR(loud.rmse[1], 0.0353, 0.02 * 0.0353);
-  EXPECT_NEAR(loud.rmse[2], 0.0113, 0.02 * 0.0113);
+  EXPECT_NEAR(loud.rmse[2], 0.0124, 0.02 * 0.0124);
   expect_softened_flight(fly("gusts_2n", a), 1309.0, 1414.0);
   // Three and four times the noise (the twice-noise scenario's, scaled): the violations
   // grow (servo rates), the flight goes on to the end without a fallback.
@@ -386,14 +386,14 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
     EXPECT_NEAR(static_cast<double>(m.state_constraint_violations), violations, 0.1 * violations) << scale;
     EXPECT_NEAR(m.violation_max_ratio, peak, 0.05 * peak) << scale;
   }
-  // The shipped design: its switched observer flies the doubled noise on the filter (12
+  // The shipped design: its switched observer flies the doubled noise on the filter (13
   // violations, servo rates up to 1.20 times their bound). The residual observer alone
   // puts a servo rate past its bound in most periods; the flight goes on (with the tube
   // gain of lambda's input weights it was aborted at once, after 3 periods).
   const MissionMetrics shipped = fly("noisy_sensors_x2");
   EXPECT_FALSE(shipped.diverged);
   EXPECT_EQ(shipped.filtered_periods, shipped.periods);
-  EXPECT_NEAR(static_cast<double>(shipped.state_constraint_violations), 12.0, 0.1 * 12.0 + 2.0);
+  EXPECT_NEAR(static_cast<double>(shipped.state_constraint_violations), 13.0, 0.1 * 13.0 + 2.0);
   EXPECT_NEAR(shipped.violation_max_ratio, 1.20, 0.05 * 1.20);
   EXPECT_EQ(shipped.fallback_periods, 0);
   const MissionMetrics raw = test::fly_residual_observer("noisy_sensors_x2");
@@ -474,7 +474,7 @@ TEST(Scenarios, NoiseOnOneSensorOrBeyondTheDesignsIsReadAndFlown) {
       {"0.1 deg on the angles alone", {0.0, 0.001745, 0.0, 0.0}, 0.0, 0.407},
       {"1 cm and 0.5 deg", {0.01, 0.00873, 0.0, 0.0}, 0.0, 2.669},
       {"a gyro alone, 0.05 rad/s", {0.0, 0.0, 0.0, 0.05}, 0.0, 1.519},
-      {"three times the noisy scenario's", {0.015, 0.01572, 0.093, 0.099}, 213.0, 4.419},
+      {"three times the noisy scenario's", {0.015, 0.01572, 0.093, 0.099}, 213.0, 5.58},
   };
   for (const Probe& p : probes) {
     Scenario sc = test::shipped_scenario("noisy_sensors");
@@ -511,7 +511,7 @@ TEST(Scenarios, TheShippedDesignFliesTheNoiseOnTheOtherTracks) {
   const struct {
     const char* name;
     double x, y, z;
-  } tracks[] = {{"figure_eight", 0.0346, 0.0282, 0.0094}, {"waypoints", 0.0287, 0.0274, 0.0053}, {"lissajous_csv", 0.0363, 0.0117, 0.0050}};
+  } tracks[] = {{"figure_eight", 0.0346, 0.0282, 0.0097}, {"waypoints", 0.0287, 0.0274, 0.0059}, {"lissajous_csv", 0.0363, 0.0117, 0.0058}};
   for (const auto& t : tracks) {
     Scenario sc = test::shipped_scenario(t.name);
     sc.noise = noise;
@@ -588,13 +588,18 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
   };
   // violations and fallback periods per run: the shipped design, the noisy-sensor one.
   // (before the shipped design had soft constraints: 0, 4, 42 violations, 0, 15, 91 fallbacks)
-  const long shipped_v[3] = {0, 0, 12}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 48, 57}, noisy_f[3] = {0, 0, 0};
+  // (the noisy design before the filter's start prior: 0, 48, 57 violations)
+  const long shipped_v[3] = {0, 0, 12}, shipped_f[3] = {0, 0, 0}, noisy_v[3] = {0, 15, 57}, noisy_f[3] = {0, 0, 0};
   const long shipped_s[3] = {0, 33, 101}, noisy_s[3] = {0, 0, 157};  // softened periods
   for (int run = 0; run < 3; ++run) {
     const MissionMetrics s = fly_run(test::artifact(), run), n = fly_run(test::noisy_artifact(), run);
     near(s.state_constraint_violations, shipped_v[run]);
     near(s.fallback_periods, shipped_f[run]);
-    EXPECT_EQ(s.filtered_periods, 7);  // the first check only: the mass error does not read as noise
+    // The first check only: the mass error does not read as noise. Run 0: the first 85
+    // periods; the filter's start swings the thrust while its first force estimates
+    // settle, which the one-step residual of the mass-mismatched model reads as 0.06 of
+    // the design noise (above filter_above) until the monitor's 1 s window forgets it.
+    EXPECT_EQ(s.filtered_periods, run == 0 ? 85 : 7) << run;
     near(n.state_constraint_violations, noisy_v[run]);
     near(n.fallback_periods, noisy_f[run]);
     near(s.softened_periods, shipped_s[run]);
@@ -609,6 +614,38 @@ TEST(Scenarios, MassesThirtyPercentOffAsTheReadmeStates) {
     near(s.state_constraint_violations, run == 9 ? 23 : 0);
     EXPECT_EQ(s.fallback_periods, 0) << run;
   }
+}
+
+// README "The filter's start": masses and inertias +-30 % with the noisy sensors
+// (scenarios/masses_30_noisy.yaml), the first 5 s of the ten draws, where the unknown
+// weight is read. With the start prior (tiltrotor.yaml estimation.start_prior) 71
+// violations in all, 410 with the steady gain from the start (the prior zeroed).
+TEST(Scenarios, TheFiltersStartReadsAnUnknownWeightThroughTheNoise) {
+  const Scenario sc = test::shipped_scenario("masses_30_noisy");
+  ControllerArtifact steady = test::artifact();
+  ASSERT_TRUE(steady.filter_start_scheduled());
+  steady.estimator_start.setZero();
+  long with_start = 0, without = 0;
+  double worst_with = 0.0, worst_without = 0.0;
+  for (int run = 0; run < 10; ++run) {
+    MissionOptions o;
+    o.run = run;
+    o.duration = 5.0;
+    const MissionMetrics s = run_mission(test::artifact(), sc, o), n = run_mission(steady, sc, o);
+    EXPECT_FALSE(s.diverged || n.diverged) << run;
+    EXPECT_EQ(s.fallback_periods, 0) << run;
+    std::printf("masses_30_noisy run %d, 5 s: violations %ld (peak %.2f %s), steady gain %ld (peak %.2f %s)\n", run,
+                s.state_constraint_violations, s.violation_max_ratio, s.violation_worst_state.c_str(),
+                n.state_constraint_violations, n.violation_max_ratio, n.violation_worst_state.c_str());
+    with_start += s.state_constraint_violations;
+    without += n.state_constraint_violations;
+    worst_with = std::max(worst_with, s.violation_max_ratio);
+    worst_without = std::max(worst_without, n.violation_max_ratio);
+  }
+  EXPECT_NEAR(static_cast<double>(with_start), 71.0, 8.0) << "README states 71";
+  EXPECT_NEAR(static_cast<double>(without), 410.0, 41.0) << "README states 410";
+  EXPECT_NEAR(worst_with, 1.38, 0.05) << "README states 1.38";
+  EXPECT_NEAR(worst_without, 2.07, 0.05) << "README states 2.07";
 }
 
 }  // namespace

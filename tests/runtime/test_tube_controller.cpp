@@ -149,10 +149,16 @@ TEST(TubeController, TheKalmanFilterReadsTheForceThroughNoiseTheResidualObserver
 
 TEST(TubeController, TheKalmanFilterStartsFromItsPriorNotFromTheFirstNoisyMeasurement) {
   // At reset the vehicle is on its reference: the filter's prior is zero error, and the
-  // first measurement passes through its gain like every later one (xi = L (y - 0)); the
-  // nominal state starts at that estimate. Over 200 noisy starts the nominal's start is
-  // nearer the truth (zero) than the raw measurement in every measured group.
+  // first measurement passes through its gain like every later one (xi = L_0 (y - 0));
+  // the nominal state starts at that estimate. The start prior (estimator.hpp
+  // start_covariance()) has each measured state's variance (s sigma)^2, uncorrelated, so
+  // L_0 = P0 C' (C P0 C' + R)^-1 weighs each row s^2 / (s^2 + 1): written here from the
+  // prior, not from the schedule. Over 200 noisy starts the nominal's start is nearer
+  // the truth (zero) than the raw measurement in every measured group.
   const ControllerArtifact& a = test::noisy_artifact();
+  ASSERT_TRUE(a.filter_start_scheduled());
+  ASSERT_EQ(static_cast<int>(a.estimator_rows.size()), a.measured);  // every state measured
+  const double s2 = a.estimator_start(2) * a.estimator_start(2), weight = s2 / (s2 + 1.0);
   const double sigma[4] = {0.005, 0.00524, 0.031, 0.033};
   TubeController ctrl(a, make_solver("admm", a.qp(true)), tube_law_options(a, "offset-free", 0.0, "kalman"));
   std::mt19937_64 rng(21);
@@ -167,7 +173,7 @@ TEST(TubeController, TheKalmanFilterStartsFromItsPriorNotFromTheFirstNoisyMeasur
     ctrl.reset(meas.cwiseQuotient(a.N_x));
     const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq);
     for (std::size_t j = 0; j < a.estimator_rows.size(); ++j) y(static_cast<Eigen::Index>(j)) = meas(a.estimator_rows[j]);
-    const Eigen::VectorXd xi = a.estimator_L * y;  // the filter's update from a zero prior
+    const Eigen::VectorXd xi = weight * y;  // the filter's update from a zero prior
     ASSERT_LT((s.x_bar.head(p) - xi.head(p)).cwiseAbs().maxCoeff(), 1e-12);
     ASSERT_TRUE(s.x_bar.tail(a.n - p).isZero(0.0));  // the integrals: measured zero
     raw += meas.head(p).cwiseAbs2();
@@ -212,6 +218,49 @@ TEST(TubeController, AFirstMeasurementFarOutsideItsNoiseRefutesTheFiltersPrior) 
   EXPECT_EQ(outside, 0);
   EXPECT_NEAR(worst, 0.945, 0.02);  // the README's; 1.94 with the gate disabled (measured once)
   EXPECT_LT(std::abs(x(0) / a.N_x(0)), 0.3);  // on its way back
+}
+
+// The filter's start (config estimation.start_prior; estimator.hpp start_gains()): on
+// the exact linear model, a vehicle engaged with a force on the load it does not know
+// (a mass error reads as one: 4 N down) and the design's sensor noise. The scheduled
+// gains read the force before the vertical speed leaves its bound; the steady gain
+// alone (the start prior zeroed) reads it slowly and lets the speed out.
+TEST(TubeController, TheFiltersStartReadsAForceItWasEngagedWithBeforeTheSpeedLeavesItsBound) {
+  const ControllerArtifact& a = test::quick_artifact();
+  ASSERT_TRUE(a.filter_start_scheduled());
+  ControllerArtifact steady = a;
+  steady.estimator_start.setZero();
+  const Eigen::Vector3d d(0.0, 0.0, -4.0);
+  const double sigma[4] = {0.005, 0.00524, 0.031, 0.033};
+  const int d_z = 12;  // the vertical speed's row
+  ASSERT_EQ(a.state_names[d_z], "d_z");
+  auto fly = [&](const ControllerArtifact& art, double& peak_dz, double& force_error) {
+    TubeController ctrl(art, make_solver("active-set", art.qp(true)), tube_law_options(art));
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> normal;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(art.n), meas(art.n);
+    ctrl.reset(x);
+    peak_dz = 0.0;
+    force_error = 0.0;
+    for (int k = 0; k < 200; ++k) {  // 2.4 s
+      meas = x;
+      for (int i = 0; i < art.measured; ++i) {
+        meas(i) += art.N_x(i) * sigma[static_cast<int>(group_of(art.kinds[static_cast<std::size_t>(i)]))] * normal(rng);
+      }
+      const ControlStep& s = ctrl.step(meas.cwiseQuotient(art.N_x), art.u_eq);
+      if (k == 20) force_error = (s.d_hat - d).norm();  // 0.24 s
+      x = art.A * x + art.B * (s.u - art.u_eq).cwiseProduct(art.N_u) + art.D * d;
+      peak_dz = std::max(peak_dz, std::abs(x(d_z)) / art.X.half_width()(d_z));
+    }
+  };
+  double peak_start = 0.0, err_start = 0.0, peak_steady = 0.0, err_steady = 0.0;
+  fly(a, peak_start, err_start);
+  fly(steady, peak_steady, err_steady);
+  std::printf("a 4 N force from the engagement: |d_z| peak %.3f of its bound, force error at 0.24 s %.2f N; "
+              "the steady gain alone: %.3f, %.2f N\n", peak_start, err_start, peak_steady, err_steady);
+  EXPECT_LT(peak_start, 0.5);   // measured 0.13
+  EXPECT_GT(peak_steady, 1.0);  // 1.71
+  EXPECT_LT(err_start, 0.2 * err_steady);  // 0.06 N and 2.28 N
 }
 
 // The switched observer (the shipped config/tiltrotor.yaml) on the exact linear model with

@@ -260,6 +260,26 @@ TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) 
   ControllerArtifact a = back;
   a.estimator_L *= 40.0;  // a gain whose estimation error diverges
   EXPECT_NE(check_error(a).find("record 'estimator_L': the estimation error does not converge"), std::string::npos) << check_error(a);
+  // The filter's covariances and start prior: P must be the DARE's for Q and give L.
+  EXPECT_EQ(back.estimator_P, n.estimator_P);
+  EXPECT_EQ(back.estimator_Q, n.estimator_Q);
+  EXPECT_EQ(back.estimator_start, n.estimator_start);
+  EXPECT_TRUE(back.filter_start_scheduled());  // tiltrotor.yaml's start_prior
+  a = back;
+  a.estimator_P *= 1.5;
+  EXPECT_NE(check_error(a).find("record 'estimator_P': its gain"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_Q *= 2.0;
+  EXPECT_NE(check_error(a).find("record 'estimator_P': is not a fixed point"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_Q(0, 1) = 1.0;
+  EXPECT_NE(check_error(a).find("record 'estimator_Q': is not symmetric"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_start(0) = -1.0;
+  EXPECT_NE(check_error(a).find("record 'estimator_start'"), std::string::npos) << check_error(a);
+  a = back;
+  a.estimator_start(2) = 0.7;  // not what the embedded configuration gives
+  EXPECT_NE(check_error(a).find("estimation.start_prior.state"), std::string::npos) << check_error(a);
   a = back;
   a.estimator_rows[3] = a.estimator_rows[2];
   EXPECT_NE(check_error(a).find("record 'estimator_rows'"), std::string::npos) << check_error(a);

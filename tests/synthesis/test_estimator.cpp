@@ -3,9 +3,11 @@
 // the filter Riccati equation written here, the filter's error statistics against its
 // covariance by simulation, the disturbance estimate against the true force, and the
 // tube's sets by simulating the closed loop under bounded noise (sampled invariance),
-// its Gaussian form's standard deviations by simulating it under white Gaussian noise.
+// its Gaussian form's standard deviations by simulating it under white Gaussian noise;
+// the filter's start against the batch estimate of the trajectory.
 #include <random>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
@@ -208,6 +210,112 @@ TEST(StationaryCovariance, SolvesTheLyapunovEquationAndRefusesAnUnstableLoop) {
   const Eigen::MatrixXd S = stationary_covariance(A, Q);
   EXPECT_LT((A * S * A.transpose() + Q - S).norm(), 1e-10 * S.norm());
   EXPECT_THROW(stationary_covariance(Eigen::Matrix2d::Identity() * 1.01, Q), std::runtime_error);
+}
+
+// The filter's start (estimator.hpp start_covariance(), start_gains()).
+KalmanDesign start_test_filter() {
+  const Plant p = double_integrator();
+  return design_kalman(p.A, p.B, p.D, Eigen::MatrixXd(2, 0), {0}, Eigen::Vector3d(1e-6, 1e-6, 1e-4).asDiagonal(),
+                       Eigen::Matrix<double, 1, 1>::Constant(1e-4));
+}
+
+TEST(KalmanStart, ThePriorHasTheForceUnknownAndTheStateWithinItsNoise) {
+  const KalmanDesign k = start_test_filter();
+  const Eigen::MatrixXd P0 = start_covariance(k, 1, 2.0, 0.0, 0.5);
+  // Measured position: (0.5 sigma)^2; unmeasured velocity: its steady variance; force 2^2.
+  EXPECT_DOUBLE_EQ(P0(0, 0), 0.25 * 1e-4);
+  EXPECT_DOUBLE_EQ(P0(1, 1), k.P(1, 1));
+  EXPECT_DOUBLE_EQ(P0(2, 2), 4.0);
+  EXPECT_EQ((P0 - Eigen::MatrixXd(P0.diagonal().asDiagonal())).cwiseAbs().maxCoeff(), 0.0);  // uncorrelated
+  // Zeros keep the steady covariance, correlations included.
+  EXPECT_EQ(start_covariance(k, 1, 0.0, 0.0, 0.0), k.P);
+  EXPECT_THROW(start_covariance(k, 1, -1.0, 0.0, 0.5), std::invalid_argument);
+  EXPECT_THROW(start_covariance(k, 3, 1.0, 0.0, 0.5), std::invalid_argument);
+}
+
+// Oracle: the filtered estimate of a linear Gaussian model is the last block of the
+// batch MAP estimate of the whole trajectory (normal equations written here), so the
+// scheduled gains, run as a filter, must give it at every step.
+TEST(KalmanStart, TheScheduledFilterIsTheBatchEstimateOfTheTrajectory) {
+  const KalmanDesign k = start_test_filter();
+  const Eigen::MatrixXd P0 = start_covariance(k, 1, 2.0, 0.0, 0.5);
+  const std::vector<Eigen::MatrixXd> gains = start_gains(k, P0);
+  ASSERT_GT(gains.size(), 5u);
+  ASSERT_LT(gains.size(), 70u);  // the batch checks run past the schedule's end
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal;
+  const int steps = 80;
+  std::vector<double> y, u;
+  Eigen::Vector3d xi(0.004, -0.01, 0.8);  // a force of 0.8 from the start
+  for (int j = 0; j < steps; ++j) {
+    y.push_back(xi(0) + 0.01 * normal(rng));
+    u.push_back(std::sin(0.3 * j));
+    xi = k.A_a * xi + k.B_a * u.back();
+  }
+  const Eigen::Matrix3d Qi = k.Q.inverse(), P0i = P0.inverse();
+  const double Ri = 1.0 / k.R(0, 0);
+  Eigen::Vector3d est = Eigen::Vector3d::Zero();  // the prior's mean
+  for (int K = 0; K < steps; ++K) {
+    if (K > 0) est = k.A_a * est + k.B_a * u[static_cast<std::size_t>(K - 1)];
+    const Eigen::MatrixXd& L = static_cast<std::size_t>(K) < gains.size() ? gains[static_cast<std::size_t>(K)] : k.L;
+    est += L * (y[static_cast<std::size_t>(K)] - est(0));
+    if (K % 7 != 0 && K != steps - 1) continue;
+    const int nz = 3 * (K + 1);
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(nz, nz);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(nz);
+    H.topLeftCorner(3, 3) += P0i;
+    for (int j = 0; j <= K; ++j) {
+      H(3 * j, 3 * j) += Ri;
+      g(3 * j) += Ri * y[static_cast<std::size_t>(j)];
+    }
+    for (int j = 0; j < K; ++j) {  // xi_j+1 - A xi_j - B u_j, weighted by Q^-1
+      Eigen::MatrixXd E = Eigen::MatrixXd::Zero(3, nz);
+      E.block(0, 3 * j, 3, 3) = -k.A_a;
+      E.block(0, 3 * (j + 1), 3, 3) = Eigen::Matrix3d::Identity();
+      H += E.transpose() * Qi * E;
+      g += E.transpose() * Qi * (k.B_a * u[static_cast<std::size_t>(j)]);
+    }
+    const Eigen::VectorXd z = H.ldlt().solve(g);
+    // Exact while scheduled; after it the steady gain, within the schedule's tolerance.
+    const double tol = static_cast<std::size_t>(K) < gains.size() ? 1e-7 : 1e-4;
+    EXPECT_LT((est - z.tail(3)).norm(), tol * (1.0 + z.tail(3).norm())) << "step " << K << " of " << gains.size();
+  }
+  // The schedule ends within its tolerance of the steady gain; from the steady
+  // covariance it is the steady gain at once.
+  EXPECT_LE((gains.back() - k.L).cwiseAbs().maxCoeff(), 1e-3 * k.L.cwiseAbs().maxCoeff());
+  const std::vector<Eigen::MatrixXd> steady = start_gains(k, k.P);
+  ASSERT_EQ(steady.size(), 1u);
+  EXPECT_LT((steady.front() - k.L).norm(), 1e-9 * k.L.norm());
+}
+
+// What the start is for: a force present from the engagement is read in a fraction of
+// the time the steady gain takes (mean squared error over noisy seeds).
+TEST(KalmanStart, AForcePresentAtTheStartIsReadFasterThanByTheSteadyGain) {
+  const KalmanDesign k = start_test_filter();
+  const std::vector<Eigen::MatrixXd> gains = start_gains(k, start_covariance(k, 1, 2.0, 0.0, 0.5));
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  const int seeds = 200, horizon = 40;
+  std::vector<double> mse_start(horizon, 0.0), mse_steady(horizon, 0.0);
+  for (int s = 0; s < seeds; ++s) {
+    Eigen::Vector3d xi(0.0, 0.0, 1.5), a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
+    for (int j = 0; j < horizon; ++j) {
+      const double y = xi(0) + 0.01 * normal(rng);
+      if (j > 0) {
+        a = k.A_a * a;
+        b = k.A_a * b;
+      }
+      a += (static_cast<std::size_t>(j) < gains.size() ? gains[static_cast<std::size_t>(j)] : k.L) * (y - a(0));
+      b += k.L * (y - b(0));
+      mse_start[static_cast<std::size_t>(j)] += std::pow(a(2) - xi(2), 2) / seeds;
+      mse_steady[static_cast<std::size_t>(j)] += std::pow(b(2) - xi(2), 2) / seeds;
+      xi = k.A_a * xi;
+    }
+  }
+  std::printf("force rms error after 10, 20, 39 steps: scheduled %.3f %.3f %.3f, steady %.3f %.3f %.3f (of 1.5)\n",
+              std::sqrt(mse_start[10]), std::sqrt(mse_start[20]), std::sqrt(mse_start[39]), std::sqrt(mse_steady[10]),
+              std::sqrt(mse_steady[20]), std::sqrt(mse_steady[39]));
+  for (int j : {10, 20, 39}) EXPECT_LT(mse_start[static_cast<std::size_t>(j)], 0.25 * mse_steady[static_cast<std::size_t>(j)]) << j;
 }
 
 }  // namespace

@@ -130,6 +130,11 @@ struct EstimationSettings {
   double process_state_fraction = 3e-5;  ///< Q of the states: (fraction x half-width)^2 per step
   double process_force = 0.02;           ///< Q of the disturbance (N per step, random walk)
   double process_residual = 1e-3;        ///< Q of the residual channels (normalized per step)
+  /// The filter's start (optional `start_prior`; estimator.hpp start_gains()): standard
+  /// deviations of the force on the load (N) and of the residuals (normalized) the filter
+  /// assumes when it is engaged, and the states' as a multiple of their measurement
+  /// noise; all 0 (no `start_prior`): the steady-state gain from the start.
+  double start_force = 0.0, start_residual = 0.0, start_state = 0.0;
   bool output_feedback_tube = false;     ///< tighten by the estimation error set too
   /// How the tube bounds the measurement noise (estimator.hpp): "bounded" (a box of
   /// noise_bound_sigmas standard deviations, Mayne et al. 2006) or "gaussian" (white

@@ -156,6 +156,10 @@ class TubeController {
   bool rate_ = false;  ///< the artifact's QP has an input-rate weight: theta ends with v_prev - u_s
   bool from_prior_ = false;  // the Kalman filter starts from its prior at the next prepare()
   Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;
+  // The filter's start (artifact.estimator_start): the time-varying gains of its first
+  // periods after reset(), then L_kf_; kf_step_ counts the filter's updates since.
+  std::vector<Eigen::MatrixXd> L_start_;
+  std::size_t kf_step_ = 0;
   std::vector<int> rows_;
   Eigen::VectorXd xi_, xi_pred_, innov_, x_hat_;
   Eigen::VectorXd u_min_, u_max_;

@@ -94,6 +94,14 @@ struct ControllerArtifact {
   /// window (s); residual_below 0: the filter always.
   Eigen::VectorXd estimator_noise;
   Eigen::Vector3d estimator_monitor = Eigen::Vector3d(0.0, 0.0, 1.0);
+  /// The filter's covariances (its DARE's a-priori P and the process noise Q, both
+  /// (n + nd + nc) square; R is diag(estimator_noise^2)) and its start prior (force std
+  /// in N, residual std normalized, states' std in multiples of their noise; zeros: the
+  /// steady gain from the start): the gains of the filter's first periods after a reset
+  /// (estimator.hpp start_covariance(), start_gains()).
+  Eigen::MatrixXd estimator_P, estimator_Q;
+  Eigen::Vector3d estimator_start = Eigen::Vector3d::Zero();
+  bool filter_start_scheduled() const { return estimator == "kalman" && (estimator_start.array() > 0.0).any(); }
   bool switched_observer() const { return estimator == "kalman" && estimator_monitor(0) > 0.0; }
   double noise_margin = 0.0;                ///< output-feedback tube: noise scale with non-empty sets
   Eigen::VectorXd estimation_error_radius;  ///< output-feedback tube: half-widths of E_x (normalized)
