@@ -23,7 +23,9 @@
 // disturbance part and c_hat = E_c times its residual part. The filter estimates the
 // measured (physical) states; the integral states are the model's integral rows
 // applied to the previous estimate. A state that does not follow the previous one by
-// one period restarts the filter's state part and the integrals from it.
+// one period restarts the filter's state part and the integrals from it. After reset()
+// the filter's gain is time-varying, L_k from the artifact's start prior (the force
+// unknown; estimator.hpp start_gains(), computed at construction), until it reaches L.
 // The switched observer ("switched": the artifact's filter and its noise monitor,
 // noise_monitor.hpp) runs both every period, each with its own disturbance estimate,
 // and flies the filter's while the monitor reads noise, the residual observer's while
