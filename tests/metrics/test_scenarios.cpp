@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "fly_scenario.hpp"
+#include "tmpc/synthesis/artifact.hpp"
+#include "tmpc/synthesis/estimator.hpp"
 
 namespace tmpc {
 namespace {
@@ -646,6 +648,11 @@ TEST(Scenarios, TheFiltersStartReadsAnUnknownWeightThroughTheNoise) {
   EXPECT_NEAR(static_cast<double>(without), 410.0, 41.0) << "README states 410";
   EXPECT_NEAR(worst_with, 1.38, 0.05) << "README states 1.38";
   EXPECT_NEAR(worst_without, 2.07, 0.05) << "README states 2.07";
+  // The schedule's length (README: 106 periods, 1.27 s).
+  const KalmanDesign k = kalman_model(test::artifact());
+  const ControllerArtifact& a = test::artifact();
+  EXPECT_EQ(start_gains(k, start_covariance(k, a.D.cols(), a.estimator_start(0), a.estimator_start(1),
+                                            a.estimator_start(2))).size(), 106u);
 }
 
 }  // namespace

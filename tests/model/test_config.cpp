@@ -323,6 +323,14 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
   residual_monitor.replace(residual_monitor.find("observer: kalman"), 16, "observer: residual");
   expect_error(with(residual_monitor), "estimation.noise_monitor", "needs observer: kalman");
   EXPECT_EQ(with(est + "  noise_monitor: off\n"), "");
+  // The filter's start prior: the shipped 3 N and half the noise; bad values named.
+  EXPECT_DOUBLE_EQ(c.estimation.start_force, 3.0);
+  EXPECT_DOUBLE_EQ(c.estimation.start_state, 0.5);
+  EXPECT_EQ(with(est + "  start_prior: {force: 2.0, residual: 0.001, state: 0.5}\n"), "");
+  expect_error(with(est + "  start_prior: {force: -1.0}\n"), "estimation.start_prior.force", "out of range");
+  expect_error(with(est + "  start_prior: {force: 1.0, state: -0.5}\n"), "estimation.start_prior.state", "out of range");
+  expect_error(with(est + "  start_prior: {force: 1.0, mass: 2}\n"), "estimation.start_prior.mass", "");
+  expect_error(with(est + "  start_prior: {state: 0.5}\n"), "estimation.start_prior.force", "");
   expect_error(with(est + "  noise_monitor: on\n"), "estimation.noise_monitor", "unknown value 'on'");
   std::string bad = est;
   bad.replace(bad.find("observer: kalman"), 16, "observer: luenberger");
