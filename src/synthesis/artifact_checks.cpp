@@ -51,12 +51,16 @@ class Checker {
       }
     }
   }
-  void symmetric_psd(const std::string& record, const Eigen::MatrixXd& m, bool definite) const {
-    const double scale = std::max(1.0, m.cwiseAbs().maxCoeff());
+  /// `kind` names what the matrix is ("a cost weight", "a covariance"); `scale_floor`
+  /// the smallest scale the tolerances are relative to (covariances can be tiny).
+  void symmetric_psd(const std::string& record, const Eigen::MatrixXd& m, bool definite,
+                     const std::string& kind = "a cost weight", double scale_floor = 1.0) const {
+    if (!m.allFinite()) fail(record, "has a non-finite entry");
+    const double scale = std::max(scale_floor, m.cwiseAbs().maxCoeff());
     if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) fail(record, "is not symmetric");
     const double lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (m + m.transpose())).eigenvalues().minCoeff();
     if (definite ? !(lmin > 0.0) : lmin < -1e-9 * scale) {
-      fail(record, std::string("smallest eigenvalue ") + num(lmin) + ": a cost weight must be positive " +
+      fail(record, std::string("smallest eigenvalue ") + num(lmin) + ": " + kind + " must be positive " +
                        (definite ? "definite" : "semidefinite"));
     }
   }
@@ -83,13 +87,8 @@ class Checker {
 void check_filter_covariances(const Checker& c, const ControllerArtifact& a) {
   const KalmanDesign k = kalman_model(a);
   const Eigen::Index na = k.A_a.rows();
-  for (const auto& [name, M] : {std::pair<std::string, const Eigen::MatrixXd*>{"estimator_Q", &k.Q}, {"estimator_P", &k.P}}) {
-    if (!M->allFinite()) c.fail(name, "has a non-finite entry");
-    const double scale = std::max(1e-300, M->cwiseAbs().maxCoeff());
-    if ((*M - M->transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) c.fail(name, "is not symmetric: a covariance is");
-    const double lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (*M + M->transpose())).eigenvalues().minCoeff();
-    if (lmin < -1e-9 * scale) c.fail(name, "has the eigenvalue " + Checker::num(lmin) + ": a covariance is positive semidefinite");
-  }
+  c.symmetric_psd("estimator_Q", k.Q, false, "a covariance", 1e-300);
+  c.symmetric_psd("estimator_P", k.P, false, "a covariance", 1e-300);
   const Eigen::MatrixXd S = k.C * k.P * k.C.transpose() + k.R;
   const Eigen::LLT<Eigen::MatrixXd> llt(S);
   if (llt.info() != Eigen::Success) c.fail("estimator_P", "C P C' + R is not positive definite");
