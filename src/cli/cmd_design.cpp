@@ -104,10 +104,10 @@ void run_design(const DesignOptions& o) {
               d.qp.variables() + d.qp.state_constraints());
   if (cfg.model == ModelKind::Tiltrotor) {
     const EnvelopeSettings& e = d.envelope;
-    std::printf("envelope: acceleration [%.3g, %.3g] x [%.3g, %.3g] x [%.3g, %.3g] m/s^2, speed <= %.3g m/s, yaw %.3g "
-                "+- %.3g rad; feedforward f_r in [%.3f, %.3f] N\n",
+    std::printf("envelope: acceleration [%.3g, %.3g] x [%.3g, %.3g] x [%.3g, %.3g] m/s^2, speed <= %.3g m/s, %s; "
+                "feedforward f_r in [%.3f, %.3f] N\n",
                 e.acceleration_min(0), e.acceleration_max(0), e.acceleration_min(1), e.acceleration_max(1),
-                e.acceleration_min(2), e.acceleration_max(2), e.speed_max, e.yaw, e.yaw_tolerance, a.feedforward_min(0),
+                e.acceleration_min(2), e.acceleration_max(2), e.speed_max, e.yaw_text().c_str(), a.feedforward_min(0),
                 a.feedforward_max(0));
   }
   if (cfg.tube_law.offset_free && cfg.model == ModelKind::Tiltrotor) {
@@ -173,10 +173,9 @@ void run_inspect(const std::string& file, bool json) {
               a.model == ModelKind::Tiltrotor ? "tiltrotor" : "linear", a.n, a.measured, a.m, a.sample_time, a.N, a.M);
   if (a.model == ModelKind::Tiltrotor) {
     const EnvelopeSettings& e = a.envelope;
-    std::printf("  envelope: acceleration [%.3g, %.3g] x [%.3g, %.3g] x [%.3g, %.3g] m/s^2, speed <= %.3g m/s, yaw %.3g "
-                "+- %.3g rad\n",
+    std::printf("  envelope: acceleration [%.3g, %.3g] x [%.3g, %.3g] x [%.3g, %.3g] m/s^2, speed <= %.3g m/s, %s\n",
                 e.acceleration_min(0), e.acceleration_max(0), e.acceleration_min(1), e.acceleration_max(1),
-                e.acceleration_min(2), e.acceleration_max(2), e.speed_max, e.yaw, e.yaw_tolerance);
+                e.acceleration_min(2), e.acceleration_max(2), e.speed_max, e.yaw_text().c_str());
   }
   std::printf("  tube gain %s, RPI %s (%d generators), terminal cost %s, %zu LPV vertices\n", a.tube_gain.c_str(),
               a.rpi_variant.c_str(), a.Z.order(), a.terminal_cost.c_str(), a.A_vertices.size());

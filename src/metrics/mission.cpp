@@ -81,6 +81,10 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   const long K = std::lround(duration / T);
   TrackingError err(kinds, a.integrated), truth(kinds, a.integrated);
   if (o.reference_join) err.set_join(reference_join_settings(a));  // the law's error; the truth stays the mission's
+  if (a.envelope.any_yaw()) {  // both in the reference's yaw frame, where the box bounds them
+    err.set_yaw_frame(a.envelope.yaw);
+    truth.set_yaw_frame(a.envelope.yaw);
+  }
   Eigen::VectorXd u_prev = Eigen::VectorXd::Zero(m);
   Eigen::VectorXd judged(a.n);
   std::vector<double> solve;

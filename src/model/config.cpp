@@ -179,7 +179,15 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     Section s = root.section("envelope");
     EnvelopeSettings& e = c.envelope;
     e.yaw = s.number_in("yaw", -M_PI, M_PI);
-    e.yaw_tolerance = s.number_in("yaw_tolerance", 0.0, M_PI);
+    // Either a fixed yaw (yaw_tolerance) or any yaw at a bounded rate (yaw_rate_max).
+    if (s.has("yaw_rate_max")) {
+      if (s.has("yaw_tolerance")) {
+        s.fail(s.key("yaw_tolerance"), "give yaw_tolerance (a fixed-yaw design) or yaw_rate_max (any yaw), not both");
+      }
+      e.yaw_rate_max = s.number_in("yaw_rate_max", 0.0, 10.0);
+    } else {
+      e.yaw_tolerance = s.number_in("yaw_tolerance", 0.0, M_PI);
+    }
     const bool from = s.has("trajectories");
     if (from) {
       e.trajectories = s.strings("trajectories");
@@ -490,6 +498,23 @@ void check_physics(const Config& c) {
 }
 
 }  // namespace
+
+Eigen::Vector3d EnvelopeSettings::in_design_frame(const Eigen::Vector3d& v, double psi_r) const {
+  if (!any_yaw()) return v;
+  const double c = std::cos(psi_r - yaw), s = std::sin(psi_r - yaw);
+  return {c * v(0) + s * v(1), -s * v(0) + c * v(1), v(2)};
+}
+
+std::string EnvelopeSettings::yaw_text() const {
+  std::ostringstream os;
+  if (any_yaw()) {
+    os << "any yaw at up to " << yaw_rate_max << " rad/s (the model's yaw " << yaw
+       << " rad, horizontal errors in the reference's yaw frame)";
+  } else {
+    os << "yaw " << yaw << " +- " << yaw_tolerance << " rad";
+  }
+  return os.str();
+}
 
 int Config::measured() const { return model == ModelKind::Tiltrotor ? kNx : static_cast<int>(linear.A.rows()); }
 

@@ -72,10 +72,11 @@ std::string vec_text(const Eigen::Vector3d& v) {
 /// The trajectory and the sampled span of a scenario file named by the envelope.
 struct EnvelopeSample {
   Eigen::Vector3d a_min = Eigen::Vector3d::Constant(1e300), a_max = Eigen::Vector3d::Constant(-1e300);
-  double speed = 0.0, yaw_min = 1e300, yaw_max = -1e300;
+  double speed = 0.0, yaw_min = 1e300, yaw_max = -1e300, yaw_rate = 0.0;
 };
 
-EnvelopeSample sample_scenario(const std::string& path, const std::string& what) {
+/// The span of a scenario's trajectory; accelerations in the design's frame of `e`.
+EnvelopeSample sample_scenario(const std::string& path, const std::string& what, const EnvelopeSettings& e) {
   std::string text;
   try {
     text = read_config_file(path, "scenario");
@@ -89,11 +90,13 @@ EnvelopeSample sample_scenario(const std::string& path, const std::string& what)
   EnvelopeSample s;
   for (double tt = 0.0; tt <= span + 1e-9; tt += 0.005) {
     const TrajectoryPoint p = t->at(tt);
-    s.a_min = s.a_min.cwiseMin(p.a);
-    s.a_max = s.a_max.cwiseMax(p.a);
+    const Eigen::Vector3d a = e.in_design_frame(p.a, p.psi);
+    s.a_min = s.a_min.cwiseMin(a);
+    s.a_max = s.a_max.cwiseMax(a);
     s.speed = std::max(s.speed, p.v.norm());
     s.yaw_min = std::min(s.yaw_min, p.psi);
     s.yaw_max = std::max(s.yaw_max, p.psi);
+    s.yaw_rate = std::max(s.yaw_rate, std::abs(p.psi_d));
   }
   return s;
 }
@@ -216,7 +219,7 @@ EnvelopeSettings resolve_envelope(const Config& cfg) {
   EnvelopeSample all;
   for (const std::string& file : e.trajectories) {
     const std::string path = !file.empty() && file[0] == '/' ? file : detail::folder_of(cfg.source) + file;
-    const EnvelopeSample s = sample_scenario(path, cfg.source + ": envelope.trajectories");
+    const EnvelopeSample s = sample_scenario(path, cfg.source + ": envelope.trajectories", e);
     if (configured_box) {
       for (int i = 0; i < 3; ++i) {
         if (s.a_min(i) < e.acceleration_min(i) - 1e-9 || s.a_max(i) > e.acceleration_max(i) + 1e-9) {
@@ -230,7 +233,12 @@ EnvelopeSettings resolve_envelope(const Config& cfg) {
                           std::to_string(s.speed) + " m/s");
       }
     }
-    if (s.yaw_min < e.yaw - e.yaw_tolerance - 1e-9 || s.yaw_max > e.yaw + e.yaw_tolerance + 1e-9) {
+    if (e.any_yaw()) {
+      if (s.yaw_rate > e.yaw_rate_max + 1e-9) {
+        throw ConfigError(cfg.source + ": envelope.yaw_rate_max: the trajectory of " + path + " turns at " +
+                          std::to_string(s.yaw_rate) + " rad/s, above " + std::to_string(e.yaw_rate_max));
+      }
+    } else if (s.yaw_min < e.yaw - e.yaw_tolerance - 1e-9 || s.yaw_max > e.yaw + e.yaw_tolerance + 1e-9) {
       throw ConfigError(cfg.source + ": envelope.yaw: the trajectory of " + path + " flies at a yaw of [" +
                         std::to_string(s.yaw_min) + ", " + std::to_string(s.yaw_max) + "] rad, outside " +
                         std::to_string(e.yaw) + " +- " + std::to_string(e.yaw_tolerance));

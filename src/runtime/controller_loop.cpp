@@ -54,6 +54,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   const int watchdog = o.silent_periods > 0 ? o.silent_periods : a.link.watchdog_periods;
   TrackingError err(kinds, a.integrated);
   if (o.reference_join) err.set_join(reference_join_settings(a));  // planned again at every restart (err.reset())
+  if (a.envelope.any_yaw()) err.set_yaw_frame(a.envelope.yaw);
   std::unique_ptr<TelemetryWriter> telemetry;
   if (!o.telemetry_csv.empty()) {
     telemetry = std::make_unique<TelemetryWriter>(

@@ -44,13 +44,16 @@ PreflightReport check_flight(const ControllerArtifact& a, const Trajectory& t, d
   for (long k = 0; k <= periods && r.ok; ++k) {
     const double tt = static_cast<double>(k) * a.sample_time;
     const TrajectoryPoint p = t.at(tt);
-    r.acceleration_min = r.acceleration_min.cwiseMin(p.a);
-    r.acceleration_max = r.acceleration_max.cwiseMax(p.a);
+    const Eigen::Vector3d acc = e.in_design_frame(p.a, p.psi);  // the LPV box is in the design's frame
+    r.acceleration_min = r.acceleration_min.cwiseMin(acc);
+    r.acceleration_max = r.acceleration_max.cwiseMax(acc);
     r.speed_max = std::max(r.speed_max, p.v.norm());
     for (int i = 0; i < 3; ++i) {
-      if (p.a(i) < e.acceleration_min(i) - tol || p.a(i) > e.acceleration_max(i) + tol) {
+      if (acc(i) < e.acceleration_min(i) - tol || acc(i) > e.acceleration_max(i) + tol) {
         std::ostringstream m;
-        m << "acceleration " << axis[i] << " = " << p.a(i) << " m/s^2 outside the envelope [" << e.acceleration_min(i)
+        const bool turned = e.any_yaw() && i < 2 && std::remainder(p.psi - e.yaw, 2.0 * M_PI) != 0.0;
+        m << "acceleration " << axis[i] << " = " << acc(i) << " m/s^2"
+          << (turned ? " (in the reference's yaw frame)" : "") << " outside the envelope [" << e.acceleration_min(i)
           << ", " << e.acceleration_max(i) << "]";
         refuse(tt, m.str());
       }
@@ -60,7 +63,13 @@ PreflightReport check_flight(const ControllerArtifact& a, const Trajectory& t, d
       m << "speed " << p.v.norm() << " m/s above the envelope's " << e.speed_max << " m/s";
       refuse(tt, m.str());
     }
-    if (std::abs(std::remainder(p.psi - e.yaw, 2.0 * M_PI)) > e.yaw_tolerance + tol) {
+    if (e.any_yaw()) {
+      if (std::abs(p.psi_d) > e.yaw_rate_max + tol) {
+        std::ostringstream m;
+        m << "yaw rate " << p.psi_d << " rad/s beyond the envelope's +- " << e.yaw_rate_max << " rad/s";
+        refuse(tt, m.str());
+      }
+    } else if (std::abs(std::remainder(p.psi - e.yaw, 2.0 * M_PI)) > e.yaw_tolerance + tol) {
       std::ostringstream m;
       m << "yaw " << p.psi << " rad outside the envelope's " << e.yaw << " +- " << e.yaw_tolerance << " rad";
       refuse(tt, m.str());

@@ -2,6 +2,7 @@
 #include "tmpc/runtime/tracking_error.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace tmpc {
 
@@ -17,6 +18,30 @@ void TrackingError::measured(const Eigen::VectorXd& x, const Eigen::VectorXd& x_
   for (Eigen::Index i = 0; i < p; ++i) {
     if (kinds_[static_cast<std::size_t>(i)] == StateKind::Yaw) e(i) = std::remainder(e(i), 2.0 * M_PI);
   }
+  if (yaw_frame_) {
+    const double a = x_r(yaw_row_) - yaw_, c = std::cos(a), s = std::sin(a);
+    for (const int* rows : {pos_, vel_}) {
+      const double ex = e(rows[0]), ey = e(rows[1]);
+      e(rows[0]) = c * ex + s * ey;
+      e(rows[1]) = -s * ex + c * ey;
+    }
+  }
+}
+
+void TrackingError::set_yaw_frame(double yaw) {
+  int np = 0, nv = 0;
+  yaw_row_ = -1;
+  for (std::size_t i = 0; i < kinds_.size(); ++i) {
+    const int r = static_cast<int>(i);
+    if (kinds_[i] == StateKind::Yaw && yaw_row_ < 0) yaw_row_ = r;
+    if (kinds_[i] == StateKind::Position && np < 2) pos_[np++] = r;
+    if (kinds_[i] == StateKind::Velocity && nv < 2) vel_[nv++] = r;
+  }
+  if (yaw_row_ < 0 || np < 2 || nv < 2) {
+    throw std::invalid_argument("tracking error: the yaw frame needs a yaw state and two position and velocity states");
+  }
+  yaw_ = yaw;
+  yaw_frame_ = true;
 }
 
 const Eigen::VectorXd& TrackingError::update(const Eigen::VectorXd& x, const Eigen::VectorXd& x_r) {

@@ -294,7 +294,8 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
     p.integer("reference_attitude", a.attitude == ReferenceAttitude::Trim ? 0 : 1);
     p.matrix("envelope_acceleration_min", a.envelope.acceleration_min);
     p.matrix("envelope_acceleration_max", a.envelope.acceleration_max);
-    p.matrix("envelope_numbers", (Eigen::VectorXd(3) << a.envelope.speed_max, a.envelope.yaw, a.envelope.yaw_tolerance).finished());
+    p.matrix("envelope_numbers", (Eigen::VectorXd(4) << a.envelope.speed_max, a.envelope.yaw, a.envelope.yaw_tolerance,
+                                   a.envelope.yaw_rate_max).finished());
     p.matrix("angles_eq", a.angles_eq);
   } else {
     p.matrix("linear_A", a.linear_A);
@@ -397,10 +398,11 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
     a.attitude = integer("reference_attitude", 0, 1) == 0 ? ReferenceAttitude::Trim : ReferenceAttitude::Equilibrium;
     a.envelope.acceleration_min = mat("envelope_acceleration_min", 3, 1);
     a.envelope.acceleration_max = mat("envelope_acceleration_max", 3, 1);
-    const Eigen::MatrixXd& e = mat("envelope_numbers", 3, 1);
+    const Eigen::MatrixXd& e = mat("envelope_numbers", 4, 1);
     a.envelope.speed_max = e(0);
     a.envelope.yaw = e(1);
     a.envelope.yaw_tolerance = e(2);
+    a.envelope.yaw_rate_max = e(3);  // < 0: the fixed yaw
     a.angles_eq = mat("angles_eq", 4, 1);
   } else {
     a.linear_A = mat("linear_A", p, p);

@@ -157,6 +157,9 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
       if (!(a.envelope.acceleration_max(i) >= a.envelope.acceleration_min(i))) c.fail("envelope_acceleration_max", "below the minimum on axis " + std::to_string(i));
     }
     if (!(a.envelope.speed_max >= 0.0) || !(a.envelope.yaw_tolerance >= 0.0)) c.fail("envelope_numbers", "negative speed or yaw tolerance");
+    if (!std::isfinite(a.envelope.yaw_rate_max) || a.envelope.yaw_rate_max > 10.0) {
+      c.fail("envelope_numbers", "yaw rate bound " + Checker::num(a.envelope.yaw_rate_max) + " not finite or above 10 rad/s");
+    }
   }
   if (!(a.solver.admm_epsilon > 0.0 && a.solver.admm_epsilon <= 1.0)) c.fail("solver", "epsilon " + Checker::num(a.solver.admm_epsilon) + " not in (0, 1]");
   if (!(a.solver.admm_eta > 0.0 && a.solver.admm_eta < 1.0)) c.fail("solver", "eta " + Checker::num(a.solver.admm_eta) + " not in (0, 1)");

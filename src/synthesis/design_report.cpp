@@ -33,6 +33,7 @@ std::string design_report_json(const ControllerDesign& d) {
                    {"speed_max", d.envelope.speed_max},
                    {"yaw", d.envelope.yaw},
                    {"yaw_tolerance", d.envelope.yaw_tolerance},
+                   {"yaw_rate_max", d.envelope.yaw_rate_max},  // < 0: the fixed yaw
                    {"feedforward_min", vec(d.em.u_r_min)},
                    {"feedforward_max", vec(d.em.u_r_max)}};
   j["time_s"] = {{"error_model", d.seconds.error_model}, {"uncertainty", d.seconds.uncertainty},

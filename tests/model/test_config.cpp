@@ -63,10 +63,35 @@ TEST(Config, DefaultLoadsWithTheCaseStudyNumbers) {
   EXPECT_EQ(c.state_names()[23], "int_psi");
   EXPECT_DOUBLE_EQ(c.envelope.acceleration_max.y(), 0.06);
   EXPECT_DOUBLE_EQ(c.envelope.acceleration_min.z(), -0.04);
-  EXPECT_EQ(c.envelope.trajectories.size(), 4u);
+  EXPECT_EQ(c.envelope.trajectories.size(), 5u);
   EXPECT_DOUBLE_EQ(c.solver.admm_eta, 0.999);
   EXPECT_EQ(c.vehicle.rotor_inertia_reference, RotorInertiaReference::Com);
   EXPECT_EQ(c.error_model.discretization, Discretization::Zoh);
+}
+
+TEST(Config, TheEnvelopeFliesAnyYawAtABoundedRateOrOneFixedYaw) {
+  EXPECT_TRUE(test::default_config().envelope.any_yaw());
+  EXPECT_DOUBLE_EQ(test::default_config().envelope.yaw_rate_max, 0.2);
+  // A fixed-yaw design: yaw_tolerance instead.
+  std::string text = default_text();
+  const std::string from = "yaw_rate_max: 0.2";
+  text.replace(text.find(from), from.size(), "yaw_tolerance: 0.05");
+  const Config fixed = load_config_from_string(text, "fixed.yaml");
+  EXPECT_FALSE(fixed.envelope.any_yaw());
+  EXPECT_DOUBLE_EQ(fixed.envelope.yaw_tolerance, 0.05);
+  // The horizontal components turn into the reference's yaw frame; z and a fixed-yaw
+  // design's vectors are kept.
+  const Eigen::Vector3d a(0.03, 0.0, -0.01);
+  const Eigen::Vector3d turned = test::default_config().envelope.in_design_frame(a, M_PI / 2);
+  EXPECT_NEAR(turned.x(), 0.0, 1e-15);
+  EXPECT_NEAR(turned.y(), -0.03, 1e-15);  // a vehicle facing +y sees +x on its right
+  EXPECT_DOUBLE_EQ(turned.z(), -0.01);
+  EXPECT_EQ(fixed.envelope.in_design_frame(a, M_PI / 2), a);
+  expect_error(load_with("yaw_rate_max: 0.2", "yaw_rate_max: 0.2\n  yaw_tolerance: 0.05"), "envelope.yaw_tolerance",
+               "not both");
+  expect_error(load_with("yaw_rate_max: 0.2", "yaw_rate_max: -0.1"), "envelope.yaw_rate_max", "out of range");
+  expect_error(load_with("yaw_rate_max: 0.2", "yaw_rate_max: .nan"), "envelope.yaw_rate_max", "finite");
+  expect_error(load_with("  yaw_rate_max: 0.2", ""), "envelope.yaw_tolerance", "missing");
 }
 
 TEST(Config, UnknownKeyIsNamed) {

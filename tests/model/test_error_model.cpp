@@ -176,6 +176,19 @@ TEST(ErrorModel, EnvelopeFromTrajectoriesAndTrajectoriesOutsideTheBox) {
     EXPECT_NE(msg.find("envelope.acceleration_min/max"), std::string::npos) << msg;
     EXPECT_NE(msg.find("figure_eight.yaml"), std::string::npos) << msg;
   }
+  // A named trajectory that turns faster than the any-yaw bound (the helix flown nose
+  // first turns at pi / 40 = 0.0785 rad/s).
+  cfg = test::default_config();
+  ASSERT_TRUE(cfg.envelope.any_yaw());
+  cfg.envelope.yaw_rate_max = 0.05;
+  try {
+    build_error_model(cfg);
+    FAIL() << "a trajectory turning faster than the bound was accepted";
+  } catch (const ConfigError& err) {
+    const std::string msg = err.what();
+    EXPECT_NE(msg.find("envelope.yaw_rate_max"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("helix_nose_first.yaml turns at 0.078"), std::string::npos) << msg;
+  }
 }
 
 }  // namespace

@@ -3,7 +3,9 @@
 // trajectory's closed form.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "../synthesis/design_fixture.hpp"
 #include "tmpc/runtime/preflight.hpp"
@@ -65,12 +67,55 @@ TEST(Preflight, SpeedYawAndTheLinearModelsOrigin) {
   r = check_flight(artifact(), *fast, 80.0);
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.message.find("t = 0 s: acceleration x = -0.12"), std::string::npos) << r.message;
-  // A yaw beyond the envelope's tolerance (0 +- 0.05 rad).
+  // A fixed-yaw design (yaw_tolerance): a yaw beyond its tolerance (0 +- 0.05 rad).
+  ControllerArtifact fixed = artifact();
+  fixed.envelope.yaw_rate_max = -1.0;
+  fixed.envelope.yaw_tolerance = 0.05;
   const auto turned = make_hover({Eigen::Vector3d(0, 0, 2), 0.3});
-  r = check_flight(artifact(), *turned, 5.0);
+  r = check_flight(fixed, *turned, 5.0);
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.message.find("yaw 0.3 rad outside the envelope's 0 +- 0.05 rad"), std::string::npos) << r.message;
-  EXPECT_THROW(require_flight(artifact(), *turned, 5.0, "test"), std::invalid_argument);
+  EXPECT_THROW(require_flight(fixed, *turned, 5.0, "test"), std::invalid_argument);
+}
+
+TEST(Preflight, AnAnyYawDesignFliesEveryYawAtItsRateWithTheBoxInTheYawFrame) {
+  ASSERT_TRUE(artifact().envelope.any_yaw());
+  // Any constant yaw: a hover turned by 0.3 rad, the helix at 1.2 rad.
+  EXPECT_TRUE(check_flight(artifact(), *make_hover({Eigen::Vector3d(0, 0, 2), 0.3}), 5.0).ok);
+  EXPECT_TRUE(check_flight(artifact(), *make_helix({Eigen::Vector3d(0, 0, 4), 5.0, 3.0, M_PI / 40, 1.2}), 80.0).ok);
+  // A turn: psi = w t on the spot, inside the 0.2 rad/s bound at 0.15, refused at 0.3
+  // at its first sample past the bound.
+  auto pirouette = [](double w) {
+    std::string csv = "t,x,y,z,psi\n";
+    for (int k = 0; k <= 100; ++k) {
+      const double t = 0.1 * k;
+      csv += std::to_string(t) + ",0,0,2," + std::to_string(std::remainder(w * t, 2 * M_PI)) + "\n";
+    }
+    return make_csv_trajectory(csv, "pirouette.csv");
+  };
+  EXPECT_TRUE(check_flight(artifact(), *pirouette(0.15), 9.0).ok) << check_flight(artifact(), *pirouette(0.15), 9.0).message;
+  PreflightReport r = check_flight(artifact(), *pirouette(0.3), 9.0);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("t = 0 s: yaw rate 0.3"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("beyond the envelope's +- 0.2 rad/s"), std::string::npos) << r.message;
+  // The acceleration box is the design's, in the reference's yaw frame: a straight
+  // diagonal run at 0.07 m/s^2 is 0.049 per world axis, inside the +-0.06 box at yaw 0;
+  // at yaw pi/4 all of it lies along the vehicle's x, outside.
+  WaypointPath diagonal{{Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(6, 6, 2)}, 0.8, 0.07, 0.0};
+  const auto straight = make_waypoints(diagonal);
+  const double arrival = waypoint_schedule(diagonal).back();
+  ASSERT_TRUE(std::isfinite(arrival));
+  double peak = 0.0;
+  for (double t = 0.0; t < arrival; t += 0.01) peak = std::max(peak, straight->at(t).a.head<2>().norm());
+  EXPECT_NEAR(peak, 0.07, 0.005);
+  r = check_flight(artifact(), *straight, arrival);
+  EXPECT_TRUE(r.ok) << r.message;
+  diagonal.yaw = M_PI / 4;
+  r = check_flight(artifact(), *make_waypoints(diagonal), arrival);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("acceleration x = 0.06"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("m/s^2 (in the reference's yaw frame) outside the envelope [-0.06, 0.06]"), std::string::npos)
+      << r.message;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // yaw wrapped to (-pi, pi], the integrals of x, y, z, psi by the rectangle rule over
 // the periods, for the tiltrotor's 20 + 4 states and for a smaller system.
 #include <cmath>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -82,6 +83,44 @@ TEST(TrackingError, AnySizeAndNoWrapOutsideTheYaw) {
   e.integrate(0.5);
   EXPECT_DOUBLE_EQ(e.update(x, r)(4), 3.5);
   EXPECT_EQ(e.measured_states(), 4);
+  // No yaw: there is no yaw frame to take the errors in.
+  EXPECT_THROW(e.set_yaw_frame(0.0), std::invalid_argument);
+}
+
+TEST(TrackingError, AnAnyYawDesignTakesTheHorizontalErrorsInTheReferencesYawFrame) {
+  // The design's model at yaw 0.2; the reference a quarter turn from it: the world's
+  // +x error lies on the vehicle's right (-y of its frame), +y ahead of it (+x).
+  TrackingError e = tiltrotor_error(), world = tiltrotor_error();
+  e.set_yaw_frame(0.2);
+  const Eigen::VectorXd r = reference(0.2 + M_PI / 2);
+  Eigen::VectorXd x = r;
+  x(0) += 0.3;    // x
+  x(1) += 0.1;    // y
+  x(2) += -0.05;  // z: not turned
+  x(3) += 0.02;   // phi: a tilt in the load's own frame, not turned
+  x(kPsi) += 0.01;
+  x(10) += 0.4;   // x velocity
+  x(11) += -0.2;  // y velocity
+  x(15) += 0.03;  // yaw rate
+  const Eigen::VectorXd& xt = e.update(x, r);
+  const Eigen::VectorXd& xw = world.update(x, r);
+  EXPECT_NEAR(xt(0), 0.1, 1e-15);
+  EXPECT_NEAR(xt(1), -0.3, 1e-15);
+  EXPECT_NEAR(xt(10), -0.2, 1e-15);
+  EXPECT_NEAR(xt(11), -0.4, 1e-15);
+  for (int i : {2, 3, 4, kPsi, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17, 18, 19}) EXPECT_EQ(xt(i), xw(i)) << i;
+  // The integrals are of the turned errors.
+  e.integrate(0.5);
+  EXPECT_NEAR(e.update(x, r)(20), 0.05, 1e-15);
+  EXPECT_NEAR(e.value()(21), -0.15, 1e-15);
+  // At the design's yaw the frame is the world's, bit for bit.
+  TrackingError at = tiltrotor_error();
+  at.set_yaw_frame(0.2);
+  const Eigen::VectorXd r0 = reference(0.2);
+  Eigen::VectorXd x0 = r0;
+  x0.head(3) += Eigen::Vector3d(0.3, 0.1, -0.05);
+  x0.segment(10, 2) += Eigen::Vector2d(0.4, -0.2);
+  EXPECT_EQ(at.update(x0, r0), tiltrotor_error().update(x0, r0));
 }
 
 }  // namespace

@@ -44,9 +44,9 @@ TEST(Artifact, EveryCorruptionClassIsRejectedWithItsMessage) {
   b[0] = 'X';
   EXPECT_NE(error_of(b).find("bad magic"), std::string::npos);
   b = bytes();
-  b[8] = 7;
+  b[8] = 9;
   fix_crc(b);
-  EXPECT_NE(error_of(b).find("format version 7"), std::string::npos) << error_of(b);
+  EXPECT_NE(error_of(b).find("format version 9"), std::string::npos) << error_of(b);
   b = bytes();
   b.resize(b.size() - 100);
   EXPECT_NE(error_of(b).find("truncated or extended"), std::string::npos);

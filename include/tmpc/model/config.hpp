@@ -74,8 +74,19 @@ struct EnvelopeSettings {
   Eigen::Vector3d acceleration_min = Eigen::Vector3d::Zero();  // m/s^2
   Eigen::Vector3d acceleration_max = Eigen::Vector3d::Zero();
   double speed_max = 0.0;       // m/s
-  double yaw = 0.0;             // rad: the yaw every trajectory flies at
-  double yaw_tolerance = 0.0;   // rad
+  double yaw = 0.0;             // rad: the yaw the error model is linearized at
+  double yaw_tolerance = 0.0;   // rad: a fixed-yaw design flies psi_r within yaw +- this
+  /// rad/s; >= 0: any yaw whose rate stays within flies. The dynamics do not change
+  /// when the whole system turns about the vertical, so the horizontal position,
+  /// velocity and integral errors are taken in the reference's yaw frame (turned by
+  /// psi_r - yaw) and the design's model holds at every psi_r; < 0: the fixed yaw.
+  double yaw_rate_max = -1.0;
+  bool any_yaw() const { return yaw_rate_max >= 0.0; }
+  /// A world vector (acceleration, force) in the frame the design's model is written
+  /// in: turned by -(psi_r - yaw) for an any-yaw design, as is otherwise.
+  Eigen::Vector3d in_design_frame(const Eigen::Vector3d& v, double psi_r) const;
+  /// "yaw 0 +- 0.05 rad" or "any yaw at up to 0.1 rad/s (from 0 rad: ...)".
+  std::string yaw_text() const;
   std::vector<std::string> trajectories;  // scenario files (paths relative to the config)
   double margin = 0.1;          // relative widening of the box from `trajectories`
 };

@@ -3,7 +3,10 @@
 // configured errors: the tiltrotor's x, y, z, psi), sized by the artifact; with a
 // reference join (reference_join.hpp) the positions and velocities relative to the
 // joined reference, planned at the first update() after construction or reset(), and
-// the integrals of those.
+// the integrals of those. In an any-yaw design (EnvelopeSettings::any_yaw) the
+// horizontal position and velocity errors are turned into the reference's yaw frame,
+// e_h' = Rz(-(psi_r - yaw)) e_h: the dynamics are the same at every yaw (gravity is
+// vertical), so the model linearized at `yaw` holds there.
 #pragma once
 
 #include <string>
@@ -30,6 +33,10 @@ class TrackingError {
   void reset();
   /// Join the reference from the first measured error (disabled settings: no join).
   void set_join(ReferenceJoinSettings s);
+  /// Take the horizontal errors in the reference's yaw frame, turned by psi_r - yaw:
+  /// x, y and their velocities are the first two position and velocity states; throws
+  /// std::invalid_argument when the kinds have no yaw or fewer than two of either.
+  void set_yaw_frame(double yaw);
   const ReferenceJoin& join() const { return join_; }
   const Eigen::VectorXd& value() const { return xt_; }
   int measured_states() const { return static_cast<int>(kinds_.size()); }
@@ -40,6 +47,9 @@ class TrackingError {
   Eigen::VectorXd xt_, integral_;
   ReferenceJoin join_;
   bool join_pending_ = false;
+  bool yaw_frame_ = false;
+  double yaw_ = 0.0;
+  int yaw_row_ = -1, pos_[2] = {-1, -1}, vel_[2] = {-1, -1};
   double t_ = 0.0;  ///< s since the join's start (integrate()'s steps)
 };
 

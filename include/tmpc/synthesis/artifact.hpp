@@ -38,7 +38,7 @@
 
 namespace tmpc {
 
-constexpr std::uint32_t kArtifactVersion = 6;
+constexpr std::uint32_t kArtifactVersion = 7;
 
 /// Every artifact read or write error (the record container's error type).
 using ArtifactError = RecordFileError;
