@@ -83,7 +83,7 @@ struct RtCli {
   int baud = 921600, priority = 0, cpu = -1, run = -1;
   long seed = -1;
   double duration = 0.0;
-  bool no_disturbance = false, no_join = false;
+  bool no_disturbance = false, no_join = false, yaw_into_force = false;
 };
 
 Scenario scenario_of(const RtCli& o) {
@@ -101,6 +101,7 @@ ControllerLoopOptions controller_options(const RtCli& o, const ControllerArtifac
   c.solver = resolve_solver(o.solver, a, o.tube_law, c.deadline_fraction, "tmpc controller", &c.solver_note);
   c.tube_law = o.tube_law;
   c.reference_join = !o.no_join;
+  c.yaw_into_force = o.yaw_into_force;
   c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   c.duration_s = o.duration;
   c.realtime.priority = o.priority;
@@ -215,6 +216,7 @@ void register_realtime(CLI::App& app) {
   sc->add_option("--cpu", c->cpu, "pin the loop to this CPU");
   sc->add_option("--telemetry", c->telemetry, "telemetry CSV to write");
   sc->add_flag("--no-join", c->no_join, "a start off the reference straight to it, without the reference join");
+  sc->add_flag("--yaw-into-force", c->yaw_into_force, kYawIntoForceHelp);
   common(sc, *c);
   sc->callback([c]() { run_controller(*c); });
 
@@ -245,6 +247,7 @@ void register_realtime(CLI::App& app) {
   sh->add_option("--rt-priority", h->priority, "SCHED_FIFO priority of the controller loop")->check(CLI::Range(0, 99));
   sh->add_option("--out", h->out, "output directory (metrics.json, telemetry.csv)");
   sh->add_flag("--no-join", h->no_join, "a start off the reference straight to it, without the reference join");
+  sh->add_flag("--yaw-into-force", h->yaw_into_force, kYawIntoForceHelp);
   common(sh, *h);
   sh->callback([h]() { run_hil(*h); });
 }

@@ -27,7 +27,7 @@ namespace {
 struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
-  bool no_disturbance = false, reinit = false, no_join = false;
+  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false;
   std::string tube_law;
   double observer_gain = 0.0;
   std::string observer;
@@ -66,6 +66,10 @@ void print_metrics(const MissionMetrics& r) {
   if (r.softened_periods > 0) {
     std::printf("  softened QP (hard QP infeasible) in %ld periods; largest slack %.4g in %s\n", r.softened_periods,
                 r.slack_max, r.slack_worst_state.c_str());
+  }
+  if (r.yaw_governed_periods > 0) {
+    std::printf("  yaw into the force: turned in %ld periods, up to %.3f rad from the mission's yaw\n",
+                r.yaw_governed_periods, r.yaw_offset_max);
   }
   if (!r.join_offset.empty()) {
     std::printf("  reference join: from %s m off over %.2f s\n", join_text(r.join_offset).c_str(), r.join_duration);
@@ -138,6 +142,7 @@ void run_simulate(const SimOptions& o) {
   m.run = o.run;
   m.reinitialize_nominal = o.reinit;
   m.reference_join = !o.no_join;
+  m.yaw_into_force = o.yaw_into_force;
   m.tube_law = o.tube_law;
   m.observer_gain = o.observer_gain;
   m.observer = o.observer;
@@ -185,6 +190,7 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--seed", o->seed, "Monte Carlo seed (default: the scenario's plant.random.seed)")
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("--reinit", o->reinit, "re-initialise the nominal state to the measured error when admissible");
+  sub->add_flag("--yaw-into-force", o->yaw_into_force, kYawIntoForceHelp);
   sub->add_flag("--no-join", o->no_join, "fly a start off the reference without the reference join (straight to the mission's reference)");
   sub->add_option("--tube-law", o->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));

@@ -10,6 +10,10 @@ namespace tmpc::cli {
 
 /// The main job's scenario, relative to the repository (or the install's share folder).
 constexpr const char* kDefaultScenario = "config/scenarios/thesis_helix.yaml";
+/// --yaw-into-force (simulate, controller, hil): runtime/yaw_governor.hpp.
+constexpr const char* kYawIntoForceHelp =
+    "the mission's yaw is free: turn the reference's yaw so that the force on the load lies on the box's diagonal "
+    "(runtime/yaw_governor.hpp; an any-yaw design)";
 
 /// `tmpc model --config FILE [--json]`: equilibrium, feedforward, linear error model.
 void register_model(CLI::App& app);

@@ -13,6 +13,7 @@
 #include "tmpc/runtime/reference_source.hpp"
 #include "tmpc/runtime/tracking_error.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
+#include "tmpc/runtime/yaw_governor.hpp"
 #include "tmpc/sim/noise.hpp"
 #include "tmpc/sim/plant_model.hpp"
 
@@ -54,8 +55,15 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
   if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
   TubeController ctrl(a, std::move(solver), to);
-  std::unique_ptr<ReferenceSource> reference = make_reference_source(a, sc.trajectory);
+  std::unique_ptr<YawGovernor> governor;
+  std::shared_ptr<const Trajectory> flown = sc.trajectory;
+  if (o.yaw_into_force) {  // the reference's yaw turned into the force (yaw_governor.hpp)
+    governor = std::make_unique<YawGovernor>(yaw_governor_settings(a, *sc.trajectory, duration));
+    flown = std::make_shared<GovernedTrajectory>(sc.trajectory, governor.get());
+  }
+  std::unique_ptr<ReferenceSource> reference = make_reference_source(a, flown);
   const std::vector<StateKind> kinds = a.measured_kinds();
+  const int yaw_row = static_cast<int>(std::find(kinds.begin(), kinds.end(), StateKind::Yaw) - kinds.begin());
   Eigen::VectorXd x_r = Eigen::VectorXd::Zero(p), u_r = Eigen::VectorXd::Zero(m), measured = x_r;
   reference->at(0.0, x_r, u_r);
   PlantModel pm = PlantSetup::from_artifact(a).model;
@@ -135,6 +143,11 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     }
     if (k == 0) ctrl.reset(xt);  // the nominal starts at the first measured error (a start offset)
     const ControlStep& s = ctrl.step(xt, u_r);
+    if (governor && s.d_hat.size() >= 2) {
+      governor->update(s.d_hat.head<2>(), x_r(yaw_row) - a.envelope.yaw, sc.trajectory->at(t).psi, T);
+      mm.yaw_offset_max = std::max(mm.yaw_offset_max, std::abs(governor->offset()));
+      mm.yaw_governed_periods += std::abs(governor->offset()) > 1e-3;
+    }
     plant->advance(s.u, T);
     err.integrate(T);
     truth.integrate(T);
@@ -254,6 +267,7 @@ std::string metrics_json(const MissionMetrics& m) {
   for (std::size_t i = 0; i < m.box_peak_ratio.size(); ++i) peak[name(m.box_names, i, "state")] = m.box_peak_ratio[i];
   j["box_peak_ratio"] = peak;
   j["softened"] = {{"periods", m.softened_periods}, {"slack_max", m.slack_max}, {"worst_state", m.slack_worst_state}};
+  j["yaw_into_force"] = {{"offset_max", m.yaw_offset_max}, {"periods_turned", m.yaw_governed_periods}};
   j["estimator"] = m.estimator;
   if (!m.join_offset.empty()) j["reference_join"] = {{"offset", m.join_offset}, {"duration_s", m.join_duration}};
   j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max}};

@@ -14,6 +14,7 @@
 #include "tmpc/runtime/telemetry.hpp"
 #include "tmpc/runtime/tracking_error.hpp"
 #include "tmpc/runtime/tube_controller.hpp"
+#include "tmpc/runtime/yaw_governor.hpp"
 
 namespace tmpc {
 
@@ -44,9 +45,20 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
         make_controller_solver(o.solver, a, so, o.explicit_law, law.offset_free), ctrl.parameters());
     optimizer = own_optimizer.get();
   }
-  std::unique_ptr<ReferenceSource> reference = make_reference_source(a, o.trajectory);
+  // Yaw into the force: the reference's yaw turned by the governor, which keeps its
+  // offset across restarts (the vehicle stays where it turned). Its rate is checked
+  // against the trajectory for an hour when the loop runs without an end.
+  std::unique_ptr<YawGovernor> governor;
+  std::shared_ptr<const Trajectory> flown = o.trajectory;
+  if (o.yaw_into_force) {
+    governor = std::make_unique<YawGovernor>(
+        yaw_governor_settings(a, *o.trajectory, o.duration_s > 0.0 ? o.duration_s : 3600.0));
+    flown = std::make_shared<GovernedTrajectory>(o.trajectory, governor.get());
+  }
+  std::unique_ptr<ReferenceSource> reference = make_reference_source(a, flown);
   // The measured states, their kinds and the gates.
   const std::vector<StateKind> kinds = a.measured_kinds();
+  const int yaw_row = static_cast<int>(std::find(kinds.begin(), kinds.end(), StateKind::Yaw) - kinds.begin());
   const Eigen::VectorXd half = a.N_x.head(p).cwiseInverse();
   StateGate gate(a.A.topLeftCorner(p, p), a.B.topRows(p), a.N_x.head(p), a.N_u, kinds,
                  state_gate_settings(a.link, kinds, half, T));
@@ -187,6 +199,9 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       }
       const ControlStep& s = ctrl.finish(u_r, res);
       err.integrate(T);
+      if (governor && fresh && s.d_hat.size() >= 2) {
+        governor->update(s.d_hat.head<2>(), x_r_last(yaw_row) - a.envelope.yaw, o.trajectory->at(last.time).psi, T);
+      }
       if (res != nullptr) {
         ++st.optimizer_used;
         solve.push_back(res->solve_us);

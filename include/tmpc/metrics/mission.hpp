@@ -30,6 +30,9 @@ struct MissionOptions {
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
   const VehicleParams* plant_vehicle = nullptr;  ///< the plant's vehicle (null: the artifact's)
+  /// Turn the reference's yaw into the force on the load (runtime/yaw_governor.hpp):
+  /// the mission's yaw is free. Needs an any-yaw tiltrotor design.
+  bool yaw_into_force = false;
   /// When set, every period's QP parameter (what the solver was given) is appended:
   /// the mission's QPs, for tests and benchmarks.
   std::vector<Eigen::VectorXd>* record_qps = nullptr;
@@ -58,6 +61,10 @@ struct MissionMetrics {
   /// physical units and its state.
   long softened_periods = 0;
   double slack_max = 0.0;
+  /// Yaw into the force (MissionOptions::yaw_into_force): the largest offset of the
+  /// reference's yaw from the mission's (rad) and the periods it was turning or turned.
+  double yaw_offset_max = 0.0;
+  long yaw_governed_periods = 0;
   std::string slack_worst_state;
   std::vector<double> window_starts;        ///< 0, then each disturbance event's start
   std::vector<long> tube_exits_per_step;    ///< per window

@@ -38,6 +38,7 @@ struct ControllerLoopOptions {
   int silent_periods = 0;            ///< watchdog periods; 0: the artifact's link.watchdog_periods
   double duration_s = 0.0;           ///< stop after this long (0: when `stop` is set)
   bool reference_join = true;        ///< join the reference from the first state of each restart (reference_join.hpp)
+  bool yaw_into_force = false;       ///< the mission's yaw is free: turned into the force (yaw_governor.hpp)
   RealTimeSettings realtime;
   std::string telemetry_csv;         ///< empty: no telemetry file
   std::uint32_t session = 0;         ///< this process's session id on the link; 0: drawn at start
