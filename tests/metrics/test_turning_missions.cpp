@@ -148,6 +148,9 @@ TEST(TurningMissions, YawingIntoTheForceFliesTheGustsWithFewerViolations) {
   const MissionMetrics t = fly_into_force(test::shipped_scenario("thesis_helix"), true);
   EXPECT_EQ(t.state_constraint_violations, 0);
   EXPECT_GT(t.yaw_governed_periods, 0);
+  EXPECT_NEAR(t.rmse[0], 0.0375, 0.02 * 0.0375);  // README, in the turned frame
+  EXPECT_NEAR(t.rmse[1], 0.0248, 0.02 * 0.0248);
+  EXPECT_NEAR(t.rmse[2], 0.0021, 0.05 * 0.0021);
 }
 
 }  // namespace
