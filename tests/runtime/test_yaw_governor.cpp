@@ -104,6 +104,7 @@ TEST(YawGovernor, SettingsFromTheArtifactAndTheTrajectory) {
   const auto helix = make_helix({Eigen::Vector3d(0, 0, 4), 5.0, 3.0, M_PI / 40, 0.0});
   YawGovernorSettings s = yaw_governor_settings(a, *helix, 80.0);
   EXPECT_DOUBLE_EQ(s.rate_max, 0.2 - 0.01);  // the helix does not turn
+  EXPECT_DOUBLE_EQ(s.acceleration_max, 0.2);
   EXPECT_DOUBLE_EQ(s.phi_bound, 0.5);
   EXPECT_DOUBLE_EQ(s.theta_bound, 0.5);
   // 0.3 of the 0.5 rad bound under the 0.5 kg load's weight.

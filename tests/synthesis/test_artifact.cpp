@@ -172,6 +172,12 @@ TEST(ArtifactSemantics, ScalingsSetsAndCostAreChecked) {
   a = good();
   a.margin = 0.5;
   expect_refused(a, "margin", "margin >= 1");
+  a = good();
+  a.envelope.yaw_rate_max = 20.0;
+  expect_refused(a, "envelope_numbers", "above 10 rad/s");
+  a = good();
+  a.envelope.yaw_rate_max = 0.5;  // not the embedded configuration's 0.2
+  expect_refused(a, "envelope_numbers", "envelope.yaw_rate_max");
 }
 
 TEST(ArtifactSemantics, RecordsMustAgreeWithTheEmbeddedConfiguration) {
