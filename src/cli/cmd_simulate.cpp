@@ -153,6 +153,12 @@ void run_simulate(const SimOptions& o) {
     run_campaign(o, a, sc, m);
     return;
   }
+  if (o.run < 0 && sc.plant.random.fraction > 0.0) {  // a single flight flies the nominal plant
+    std::fprintf(stderr,
+                 "tmpc simulate: note: scenario %s draws masses and inertias +-%.0f %% only per Monte Carlo run "
+                 "(--run K or --monte-carlo K): this flight flies the nominal plant\n",
+                 sc.source.c_str(), 100.0 * sc.plant.random.fraction);
+  }
   const MissionMetrics r = run_mission(a, sc, m);
   std::ofstream(o.out + "/metrics.json") << metrics_json(r) << "\n";
   const double duration = o.duration > 0.0 ? std::min(o.duration, sc.duration) : sc.duration;

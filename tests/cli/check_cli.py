@@ -162,6 +162,13 @@ elif check == "best-case":
     p = run("model", "--config", config, "--seed", "2", expect_rc=None)
     need(p.returncode != 0 and "--seed needs --run" in p.stderr, f"--seed without --run: {p.stderr}")
     art = design_quick()
+    # A single flight of a scenario with draws flies the nominal plant, and says so.
+    p = run("simulate", "--controller", art, "--scenario", masses, "--duration", "0.5", "--out",
+            os.path.join(scratch, "nominal"))
+    need("this flight flies the nominal plant" in p.stderr, f"simulate without --run: {p.stderr}")
+    p = run("simulate", "--controller", art, "--scenario", masses, "--run", "1", "--duration", "0.5", "--out",
+            os.path.join(scratch, "drawn"))
+    need("nominal plant" not in p.stderr and "Monte Carlo run 1" in p.stdout, f"simulate --run 1: {p.stdout}{p.stderr}")
     for (seed, k), peak in expected.items():
         model = os.path.join(scratch, f"model_{seed}_{k}.json")
         extra = [] if k is None else ["--scenario", masses, "--run", str(k)]
