@@ -22,6 +22,7 @@ PlantSetup PlantSetup::from_config(const Config& cfg) {
   s.sample_time = cfg.sample_time;
   s.link = cfg.link;
   s.inputs = cfg.inputs();
+  if (cfg.model == ModelKind::Tiltrotor && cfg.envelope.any_yaw()) s.yaw_frame = cfg.envelope.yaw;
   return s;
 }
 
@@ -38,6 +39,7 @@ PlantSetup PlantSetup::from_artifact(const ControllerArtifact& a) {
   s.sample_time = a.sample_time;
   s.link = a.link;
   s.inputs = a.m;
+  if (a.model == ModelKind::Tiltrotor && a.envelope.any_yaw()) s.yaw_frame = a.envelope.yaw;
   return s;
 }
 
@@ -68,6 +70,7 @@ PlantLoopStats run_plant_loop(const PlantSetup& setup, const Scenario& sc, io::T
   std::uint8_t buf[1024];
   std::vector<double> sq(static_cast<std::size_t>(p), 0.0);
   TrackingError err(pm.kinds, {});
+  if (setup.yaw_frame) err.set_yaw_frame(*setup.yaw_frame);
   Eigen::VectorXd measured = Eigen::VectorXd::Zero(p), e = measured;
   PlantLoopStats st;
   st.session = o.session != 0 ? o.session : io::draw_session_id();

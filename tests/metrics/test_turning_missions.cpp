@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../sim/turned_tour.hpp"
 #include "fly_scenario.hpp"
 #include "tmpc/model/trajectory.hpp"
 #include "tmpc/sim/scenario.hpp"
@@ -16,26 +17,9 @@
 namespace tmpc {
 namespace {
 
-/// A waypoint tour with two force steps on the load, everything turned by `a` about
-/// the vertical through the origin (the yaw too).
-Scenario turned_tour(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  auto turn = [&](double x, double y, double z) {
-    char b[96];
-    std::snprintf(b, sizeof b, "[%.17g, %.17g, %.17g]", c * x - s * y, s * x + c * y, z);
-    return std::string(b);
-  };
-  const std::string yaml = "name: turned_tour\nduration: 15.0\ntrajectory: {type: waypoints, points: [" +
-                           turn(0, 0, 1) + ", " + turn(4, 0, 2) + ", " + turn(4, 4, 3) +
-                           "], max_speed: 0.6, max_acceleration: 0.05, yaw: " + std::to_string(a) +
-                           "}\ndisturbances:\n  - {type: step, time: 4.0, force: " + turn(1.0, 0, 0) +
-                           "}\n  - {type: step, time: 9.0, force: " + turn(0, -1.2, 0.3) + "}\n";
-  return scenario_from_string(yaml, "turned_tour.yaml");
-}
-
 TEST(TurningMissions, AMissionTurnedAboutTheVerticalFliesAsTheMissionItTurns) {
-  const MissionMetrics m0 = run_mission(test::artifact(), turned_tour(0.0), MissionOptions{});
-  const MissionMetrics m1 = run_mission(test::artifact(), turned_tour(1.0), MissionOptions{});
+  const MissionMetrics m0 = run_mission(test::artifact(), test::turned_tour(0.0), MissionOptions{});
+  const MissionMetrics m1 = run_mission(test::artifact(), test::turned_tour(1.0), MissionOptions{});
   ASSERT_FALSE(m0.diverged);
   ASSERT_FALSE(m1.diverged);
   EXPECT_GT(m0.tube_exits, 0);  // the steps push it: a flight with something to compare

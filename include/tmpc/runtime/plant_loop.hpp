@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ struct PlantSetup {
   double sample_time = 0.0;
   LinkSettings link;
   int inputs = 0;
+  /// The design's yaw for an any-yaw design (EnvelopeSettings::any_yaw): the plant's
+  /// true errors are then taken in the mission reference's yaw frame, as the controller
+  /// and `tmpc simulate` take them (x, y along and across the heading); empty: as is.
+  std::optional<double> yaw_frame;
   static PlantSetup from_config(const Config& cfg);
   static PlantSetup from_artifact(const ControllerArtifact& a);
 };
