@@ -1,6 +1,7 @@
 // tmpc simulate --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--plant el|mujoco]
 //   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit] [--no-join]
-//   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman|switched] --out DIR
+//   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman|switched] [--fixed-filter-gain]
+//   [--yaw-into-force] --out DIR
 // A scenario flown in-process on a virtual clock: telemetry.csv and metrics.json. The
 // plant is the artifact's vehicle (or --config's: a plant other than the one designed
 // for), scaled as the scenario says; the trajectory is checked against the envelope
@@ -27,7 +28,7 @@ namespace {
 struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
-  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false;
+  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false, fixed_filter_gain = false;
   std::string tube_law;
   double observer_gain = 0.0;
   std::string observer;
@@ -79,6 +80,10 @@ void print_metrics(const MissionMetrics& r) {
     if (r.estimator == "switched") {
       std::printf(" (the filter in %ld of %ld periods, %ld switches, noise level up to %.3g of the design's)",
                   r.filtered_periods, r.periods, r.observer_switches, r.noise_level_max);
+      if (r.filter_louder_periods > 0) {
+        std::printf("; its gain for up to %.0f times the design's noise in %ld periods", r.filter_noise_scale_max,
+                    r.filter_louder_periods);
+      }
     }
     std::printf("\n");
   }
@@ -146,6 +151,7 @@ void run_simulate(const SimOptions& o) {
   m.tube_law = o.tube_law;
   m.observer_gain = o.observer_gain;
   m.observer = o.observer;
+  m.fixed_filter_gain = o.fixed_filter_gain;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
@@ -202,6 +208,9 @@ void register_simulate(CLI::App& app) {
       ->check(CLI::IsMember({"mayne", "offset-free"}));
   sub->add_option("--observer", o->observer, "offset-free observer: residual, kalman or switched (default: the artifact's)")
       ->check(CLI::IsMember({"residual", "kalman", "switched"}));
+  sub->add_flag("--fixed-filter-gain", o->fixed_filter_gain,
+                "switched observer: the filter's design gain at every noise level (default: the gain for the monitor's level, "
+                "runtime/filter_gain_schedule.hpp)");
   sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));
   sub->add_option("--out", o->out, "output directory");

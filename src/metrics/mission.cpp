@@ -52,6 +52,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   so.eta = a.solver.admm_eta;
   TubeControllerOptions to = tube_law_options(a, o.tube_law, o.observer_gain, o.observer);
   to.reinitialize_nominal = o.reinitialize_nominal;
+  to.adaptive_filter_gain = !o.fixed_filter_gain;
   std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
   if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
   TubeController ctrl(a, std::move(solver), to);
@@ -184,6 +185,8 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     mm.observer_switches += k > 0 && s.filtered != filtered_before;
     filtered_before = s.filtered;
     mm.noise_level_max = std::max(mm.noise_level_max, s.noise_level);
+    mm.filter_louder_periods += s.filtered && s.filter_noise_scale > 1.0;
+    if (s.filtered) mm.filter_noise_scale_max = std::max(mm.filter_noise_scale_max, s.filter_noise_scale);
     if (s.softened) {
       ++mm.softened_periods;
       if (s.slack_max > mm.slack_max) {
@@ -270,7 +273,8 @@ std::string metrics_json(const MissionMetrics& m) {
   j["yaw_into_force"] = {{"offset_max", m.yaw_offset_max}, {"periods_turned", m.yaw_governed_periods}};
   j["estimator"] = m.estimator;
   if (!m.join_offset.empty()) j["reference_join"] = {{"offset", m.join_offset}, {"duration_s", m.join_duration}};
-  j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max}};
+  j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max},
+                   {"filter_louder_periods", m.filter_louder_periods}, {"filter_noise_scale_max", m.filter_noise_scale_max}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;

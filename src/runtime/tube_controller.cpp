@@ -96,6 +96,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       s.filter_above = a.estimator_monitor(1);
       s.window_s = a.estimator_monitor(2);
       monitor_ = std::make_unique<NoiseMonitor>(a.A, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
+      if (opt_.adaptive_filter_gain) schedule_ = std::make_unique<FilterGainSchedule>(kalman_model(a));
     }
   } else {
     theta_ = Eigen::VectorXd::Zero(n + (rate_ ? m : 0));
@@ -131,6 +132,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   d_kf_.setZero();
   c_kf_.setZero();
   if (monitor_) monitor_->reset();
+  if (schedule_) schedule_->reset();
   w_ = kalman_ ? 1.0 : 0.0;
   u_s_.setZero();
   v_prev_.setZero();
@@ -212,7 +214,11 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     }
     for (std::size_t j = 0; j < rows_.size(); ++j) innov_(static_cast<Eigen::Index>(j)) = x_n_(rows_[j]) - xi_pred_(rows_[j]);
     xi_ = xi_pred_;
-    const Eigen::MatrixXd& gain = kf_step_ < L_start_.size() ? L_start_[kf_step_] : L_kf_;
+    // The start's schedule first (its prior, the design's noise), then the steady gain:
+    // the design's, or the one for the monitor's noise level.
+    const Eigen::MatrixXd& steady = schedule_ ? schedule_->update(monitor_->level()) : L_kf_;
+    out_.filter_noise_scale = schedule_ ? schedule_->scale() : 1.0;
+    const Eigen::MatrixXd& gain = kf_step_ < L_start_.size() ? L_start_[kf_step_] : steady;
     ++kf_step_;
     xi_.noalias() += gain * innov_;
     x_hat_.head(p) = xi_.head(p);

@@ -54,6 +54,7 @@
 
 #include <Eigen/Core>
 
+#include "tmpc/runtime/filter_gain_schedule.hpp"
 #include "tmpc/runtime/noise_monitor.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
@@ -67,6 +68,9 @@ struct TubeControllerOptions {
   double observer_gain = 0.05;        ///< beta in (0, 1]: time constant T / beta (0.24 s)
   std::string observer = "residual";  ///< offset-free: "residual", "kalman" (the artifact's filter) or
                                       ///< "switched" (both, chosen by the artifact's noise monitor)
+  /// switched: the filter's gain follows the monitor's noise level (filter_gain_schedule.hpp);
+  /// false: the design's gain at every level.
+  bool adaptive_filter_gain = true;
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
@@ -100,6 +104,7 @@ struct ControlStep {
   bool filtered = false;     ///< the Kalman filter's estimate flies (switched observer: the monitor's choice)
   double filter_weight = 0.0;  ///< the filter's share of the flown estimate (0: the measurement; kalman: 1)
   double noise_level = 0.0;  ///< switched observer: the monitor's noise level (fraction of the design's)
+  double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's gain is for
 };
 
 class TubeController {
@@ -161,6 +166,7 @@ class TubeController {
   // The filter's start (artifact.estimator_start): the time-varying gains of its first
   // periods after reset(), then L_kf_; kf_step_ counts the filter's updates since.
   std::vector<Eigen::MatrixXd> L_start_;
+  std::unique_ptr<FilterGainSchedule> schedule_;  ///< switched observer, adaptive_filter_gain
   std::size_t kf_step_ = 0;
   std::vector<int> rows_;
   Eigen::VectorXd xi_, xi_pred_, innov_, x_hat_;

@@ -1,0 +1,36 @@
+// Noise-adaptive filter gains (see filter_gain_schedule.hpp).
+#include "tmpc/runtime/filter_gain_schedule.hpp"
+
+#include <cmath>
+
+namespace tmpc {
+
+const std::vector<double>& FilterGainSchedule::scales() {
+  static const std::vector<double> s{1.0, 2.0, 4.0, 8.0};
+  return s;
+}
+
+FilterGainSchedule::FilterGainSchedule(const KalmanDesign& k) {
+  const Eigen::MatrixXd A = k.A_a.topLeftCorner(k.p, k.p);
+  const Eigen::MatrixXd B = k.B_a.topRows(k.p);
+  const Eigen::Index nd = k.A_a.rows() - k.p - k.E_c.cols();
+  const Eigen::MatrixXd D = k.A_a.block(0, k.p, k.p, nd);
+  for (double s : scales()) {
+    if (s == 1.0) {
+      gains_.push_back(k.L);
+    } else {
+      gains_.push_back(design_kalman(A, B, D, k.E_c, k.measured_rows, k.Q, (s * s) * k.R).L);
+    }
+  }
+}
+
+const Eigen::MatrixXd& FilterGainSchedule::update(double level) {
+  const std::vector<double>& s = scales();
+  const int last = static_cast<int>(s.size()) - 1;
+  auto edge = [&](int j) { return std::sqrt(s[static_cast<std::size_t>(j)] * s[static_cast<std::size_t>(j + 1)]); };
+  while (index_ < last && level > edge(index_) * (1.0 + kHysteresis)) ++index_;
+  while (index_ > 0 && level < edge(index_ - 1) / (1.0 + kHysteresis)) --index_;
+  return gain();
+}
+
+}  // namespace tmpc
