@@ -6,6 +6,7 @@
 //   tmpc hil --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--duration] [--out DIR] [--no-join]
 //                                                         both, over a pseudo-terminal pair
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -162,8 +163,23 @@ void run_hil(const RtCli& o) {
   std::filesystem::create_directories(o.out);
   install_signals();
   PlantLoopStats ps;
-  std::thread plant([&] { ps = run_plant_loop(setup, sc, *pty.master, plant_options(o, duration), g_stop); });
-  const ControllerLoopStats cs = run_controller_loop(a, *port, c, g_stop);
+  // The plant starts once the controller is ready: its start-up (the law, the solver
+  // thread) read as silence on the link held the plant's input for the first 8 periods
+  // and, once, declared the link lost at 0.1 s.
+  std::atomic<bool> ready{false};
+  c.ready = &ready;
+  std::thread plant([&] {
+    while (!ready.load() && !g_stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!g_stop.load()) ps = run_plant_loop(setup, sc, *pty.master, plant_options(o, duration), g_stop);
+  });
+  ControllerLoopStats cs;
+  try {
+    cs = run_controller_loop(a, *port, c, g_stop);
+  } catch (...) {
+    g_stop.store(true);
+    plant.join();
+    throw;
+  }
   plant.join();
   std::printf("hil over %s, scenario %s, %.1f s, solver %s%s\n", pty.slave_path.c_str(), sc.name.c_str(), duration,
               c.solver.c_str(), sc.disturbances.empty() ? ", no disturbance" : "");

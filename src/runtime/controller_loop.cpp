@@ -101,6 +101,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   Eigen::VectorXd u_safe = reference->hover_input(), u_r_sent = u_safe;
   bool controlled_last = false;   // the previous period sent the law's input for a fresh state
   double last_state_time = -1.0;  // plant time of the state that input was computed from
+  if (o.ready != nullptr) o.ready->store(true);
   while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock->skipped() < max_periods)) {
     const double lat = clock->wait();
     latency.push_back(lat);  // within the reserved capacity

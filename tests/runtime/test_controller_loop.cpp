@@ -124,6 +124,32 @@ ControllerLoopStats run_closed_loop(io::Transport& link, int periods, Controller
   return run_controller_loop(artifact(), link, o, stop, seams);
 }
 
+// `tmpc hil` starts its plant when the controller says it is ready (the law, the
+// solver and the clock built): the flag is set before the first period reads the link,
+// and before nothing else.
+TEST(ControllerLoop, SaysItIsReadyBeforeItsFirstPeriod) {
+  std::atomic<bool> ready{false};
+  std::vector<bool> seen;  // the flag at each period's control
+  VirtualClock clock(artifact().sample_time);
+  ScriptedOptimizer opt(clock, [](int) { return std::int64_t{1000000}; });
+  std::atomic<bool> stop{false};
+  test::ScriptedPlant plant(reference_frames(5), [&](int k) {
+    seen.push_back(ready.load());
+    if (k >= 3) stop.store(true);
+  });
+  ControllerLoopOptions o;
+  o.trajectory = test::thesis_helix();
+  o.ready = &ready;
+  ControllerLoopSeams seams;
+  seams.clock = &clock;
+  seams.optimizer = &opt;
+  EXPECT_FALSE(ready.load());
+  const ControllerLoopStats st = run_controller_loop(artifact(), plant, o, stop, seams);
+  ASSERT_FALSE(seen.empty());
+  for (bool r : seen) EXPECT_TRUE(r);
+  EXPECT_GE(st.periods, 3);
+}
+
 TEST(ControllerLoop, FallbackExactlyWhenTheOptimizerIsLateOrBusy) {
   // Solve 2 takes 30 ms: late in period 2 (deadline 9.6 ms), still running at the
   // start of periods 3 and 4 (12 and 24 ms after it started), done before period 5.

@@ -47,6 +47,10 @@ struct ControllerLoopOptions {
   /// slow-motion hardware-in-the-loop run on a machine that cannot keep the period (a
   /// sanitizer build, a debugger), with the plant given the same scale.
   double time_scale = 1.0;
+  /// Set once the loop is built (the artifact's law, the solver thread, the clock) and
+  /// its first period starts: `tmpc hil` starts its plant then, so that the plant's
+  /// mission does not begin with the controller's start-up as silence on the link.
+  std::atomic<bool>* ready = nullptr;
 };
 
 struct ControllerLoopStats {
