@@ -11,17 +11,7 @@ const std::vector<double>& FilterGainSchedule::scales() {
 }
 
 FilterGainSchedule::FilterGainSchedule(const KalmanDesign& k) {
-  const Eigen::MatrixXd A = k.A_a.topLeftCorner(k.p, k.p);
-  const Eigen::MatrixXd B = k.B_a.topRows(k.p);
-  const Eigen::Index nd = k.A_a.rows() - k.p - k.E_c.cols();
-  const Eigen::MatrixXd D = k.A_a.block(0, k.p, k.p, nd);
-  for (double s : scales()) {
-    if (s == 1.0) {
-      gains_.push_back(k.L);
-    } else {
-      gains_.push_back(design_kalman(A, B, D, k.E_c, k.measured_rows, k.Q, (s * s) * k.R).L);
-    }
-  }
+  for (double s : scales()) gains_.push_back(s == 1.0 ? k.L : redesign_kalman(k, k.Q, (s * s) * k.R).L);
 }
 
 const Eigen::MatrixXd& FilterGainSchedule::update(double level) {

@@ -42,7 +42,11 @@ KalmanDesign kalman_model(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, co
 KalmanDesign design_kalman(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& D,
                            const Eigen::MatrixXd& E_c, const std::vector<int>& measured_rows,
                            const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R) {
-  KalmanDesign k = kalman_model(A, B, D, E_c, measured_rows);
+  return redesign_kalman(kalman_model(A, B, D, E_c, measured_rows), Q, R);
+}
+
+KalmanDesign redesign_kalman(const KalmanDesign& model, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R) {
+  KalmanDesign k = model;
   const Eigen::Index na = k.A_a.rows(), ny = k.C.rows();
   if (Q.rows() != na || Q.cols() != na || R.rows() != ny || R.cols() != ny) {
     throw std::invalid_argument("design_kalman: Q must be " + std::to_string(na) + " square and R " +

@@ -84,7 +84,7 @@ struct MissionMetrics {
   double join_duration = 0.0;               ///< its T (s)
   long observer_switches = 0;               ///< switched observer: changes between filter and measurement
   double noise_level_max = 0.0;             ///< switched observer: the monitor's largest level
-  long filter_louder_periods = 0;           ///< periods on a filter gain for louder noise than the design's
+  long filter_louder_periods = 0;           ///< filtered periods whose steady gain is chosen for louder noise than the design's
   double filter_noise_scale_max = 1.0;      ///< the loudest noise (times the design's) a flown gain was for
   bool offset_free = false;                 ///< the tube law flown
   bool noisy = false;                       ///< the scenario's sensors are noisy

@@ -104,7 +104,8 @@ struct ControlStep {
   bool filtered = false;     ///< the Kalman filter's estimate flies (switched observer: the monitor's choice)
   double filter_weight = 0.0;  ///< the filter's share of the flown estimate (0: the measurement; kalman: 1)
   double noise_level = 0.0;  ///< switched observer: the monitor's noise level (fraction of the design's)
-  double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's gain is for
+  double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
+                                    ///< (during the filter's start schedule, the one it will fly after)
 };
 
 class TubeController {

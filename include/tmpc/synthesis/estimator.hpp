@@ -79,6 +79,11 @@ KalmanDesign design_kalman(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, c
                            const Eigen::MatrixXd& E_c, const std::vector<int>& measured_rows,
                            const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R);
 
+/// The same as design_kalman on the augmented model of `model` (from kalman_model() or a
+/// design): its steady-state gain for Q and R (the noise-adaptive gains,
+/// runtime/filter_gain_schedule.hpp). Throws as design_kalman.
+KalmanDesign redesign_kalman(const KalmanDesign& model, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R);
+
 /// The filter's start (a time-varying Kalman filter on the same model; Anderson and
 /// Moore, Optimal Filtering, 1979, ch. 3): a filter engaged with the disturbances
 /// unknown (a mass or trim error reads as a force) takes, from the a-priori covariance
