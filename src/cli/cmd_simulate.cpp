@@ -80,10 +80,12 @@ void print_metrics(const MissionMetrics& r) {
     if (r.estimator == "switched") {
       std::printf(" (the filter in %ld of %ld periods, %ld switches, noise level up to %.3g of the design's)",
                   r.filtered_periods, r.periods, r.observer_switches, r.noise_level_max);
-      if (r.filter_louder_periods > 0) {
-        std::printf("; its gain for up to %.0f times the design's noise in %ld periods", r.filter_noise_scale_max,
-                    r.filter_louder_periods);
-      }
+    } else if (r.estimator == "kalman" && r.noise_level_max > 0.0) {
+      std::printf(" (noise level up to %.3g of the design's)", r.noise_level_max);
+    }
+    if (r.filter_louder_periods > 0) {
+      std::printf("; its gain for up to %.0f times the design's noise in %ld periods", r.filter_noise_scale_max,
+                  r.filter_louder_periods);
     }
     std::printf("\n");
   }
@@ -209,7 +211,7 @@ void register_simulate(CLI::App& app) {
   sub->add_option("--observer", o->observer, "offset-free observer: residual, kalman or switched (default: the artifact's)")
       ->check(CLI::IsMember({"residual", "kalman", "switched"}));
   sub->add_flag("--fixed-filter-gain", o->fixed_filter_gain,
-                "switched observer: the filter's design gain at every noise level (default: the gain for the monitor's level, "
+                "the Kalman filter's design gain at every noise level (default: the gain for the noise monitor's level, "
                 "runtime/filter_gain_schedule.hpp)");
   sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));

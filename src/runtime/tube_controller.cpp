@@ -97,6 +97,13 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       s.window_s = a.estimator_monitor(2);
       monitor_ = std::make_unique<NoiseMonitor>(a.A, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
       if (opt_.adaptive_filter_gain) schedule_ = std::make_unique<FilterGainSchedule>(kalman_model(a));
+    } else if (opt_.observer == "kalman" && opt_.adaptive_filter_gain) {
+      // The filter alone: the monitor only reads the noise level (it never hands over to
+      // the residual observer: residual_below 0), for the gain schedule.
+      NoiseMonitorSettings s;
+      s.window_s = a.estimator_monitor(2);
+      monitor_ = std::make_unique<NoiseMonitor>(a.A, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
+      schedule_ = std::make_unique<FilterGainSchedule>(kalman_model(a));
     }
   } else {
     theta_ = Eigen::VectorXd::Zero(n + (rate_ ? m : 0));
@@ -154,13 +161,14 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   // The one-step residual of the measurement r = y - A y_prev - B u_prev, once: the
   // residual observer's input and the noise monitor's (a non-finite state is left to
   // the solver's input check and reaches neither).
-  const bool have_resid = residual_ && have_prev_ && consecutive && y_.allFinite();
+  const bool have_resid = (residual_ || monitor_) && have_prev_ && consecutive && y_.allFinite();
   if (have_resid) {
     resid_ = y_;
     resid_.noalias() -= a_.A * x_prev_;
     resid_.noalias() -= a_.B * u_prev_n_;
   }
-  // The switched observer: which estimate flies this period (the filter's at the start).
+  // The switched observer: which estimate flies this period (the filter's at the start;
+  // the filter alone: always, its monitor reading the level only).
   const bool filter = kalman_ && (!monitor_ || monitor_->update(resid_, have_resid && !prev_off_law_));
   out_.filtered = filter;
   out_.noise_level = monitor_ ? monitor_->level() : 0.0;
@@ -238,7 +246,9 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       from_prior_ = false;
     }
   }
-  if (residual_) {
+  if (!residual_) {
+    x_prev_ = y_;  // the filter alone: the monitor's residual next period
+  } else {
     // Disturbance observer on the one-step residual of the measurement.
     if (have_resid) {
       d_raw_.noalias() = D_pinv_ * resid_;

@@ -45,6 +45,8 @@
 // force's thrusts chattering at their 30 N bound read 4 times the design's noise and
 // brought the filter in, whose slower force estimate swung the vertical speed; 0.046
 // for 3 N). Noise that starts there is read once the hard law flies again.
+// The filter's steady gain follows the monitor's noise level (filter_gain_schedule.hpp,
+// adaptive_filter_gain); the filter alone ("kalman") runs a monitor for that only.
 // No allocation in step(); it never throws.
 #pragma once
 
@@ -68,7 +70,8 @@ struct TubeControllerOptions {
   double observer_gain = 0.05;        ///< beta in (0, 1]: time constant T / beta (0.24 s)
   std::string observer = "residual";  ///< offset-free: "residual", "kalman" (the artifact's filter) or
                                       ///< "switched" (both, chosen by the artifact's noise monitor)
-  /// switched: the filter's gain follows the monitor's noise level (filter_gain_schedule.hpp);
+  /// kalman or switched: the filter's gain follows the noise monitor's level
+  /// (filter_gain_schedule.hpp; the filter alone runs a monitor for the level only);
   /// false: the design's gain at every level.
   bool adaptive_filter_gain = true;
   /// Throws std::invalid_argument naming the bad field.
@@ -103,7 +106,7 @@ struct ControlStep {
   int slack_state = -1;
   bool filtered = false;     ///< the Kalman filter's estimate flies (switched observer: the monitor's choice)
   double filter_weight = 0.0;  ///< the filter's share of the flown estimate (0: the measurement; kalman: 1)
-  double noise_level = 0.0;  ///< switched observer: the monitor's noise level (fraction of the design's)
+  double noise_level = 0.0;  ///< the noise monitor's level (fraction of the design's; 0 without one)
   double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
                                     ///< (during the filter's start schedule, the one it will fly after)
 };
@@ -153,7 +156,7 @@ class TubeController {
   Eigen::VectorXd d_res_, c_res_;   ///< the residual observer's estimates
   Eigen::VectorXd d_kf_, c_kf_;     ///< the filter's
   bool residual_ = false;  ///< the residual observer runs (observer residual or switched)
-  std::unique_ptr<NoiseMonitor> monitor_;  ///< switched observer only
+  std::unique_ptr<NoiseMonitor> monitor_;  ///< switched observer; the filter alone with adaptive_filter_gain (the level only)
   double w_ = 1.0;                         ///< the filter's weight in the flown estimate
   static constexpr double kBlendToFilter_s = 0.1, kBlendToResidual_s = 0.5;
   static constexpr double kPriorGate_sigmas = 5.0;  ///< the first measurement refutes the filter's prior beyond this
