@@ -1,6 +1,7 @@
 // tmpc simulate --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--plant el|mujoco]
 //   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit] [--no-join]
 //   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman|switched] [--fixed-filter-gain]
+//   [--no-innovation-gate]
 //   [--yaw-into-force] --out DIR
 // A scenario flown in-process on a virtual clock: telemetry.csv and metrics.json. The
 // plant is the artifact's vehicle (or --config's: a plant other than the one designed
@@ -28,7 +29,8 @@ namespace {
 struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
-  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false, fixed_filter_gain = false;
+  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false, fixed_filter_gain = false,
+       no_innovation_gate = false;
   std::string tube_law;
   double observer_gain = 0.0;
   std::string observer;
@@ -87,6 +89,7 @@ void print_metrics(const MissionMetrics& r) {
       std::printf("; its gain for up to %.0f times the design's noise in %ld periods", r.filter_noise_scale_max,
                   r.filter_louder_periods);
     }
+    if (r.gated_samples > 0) std::printf("; %ld glitched samples replaced by the filter's prediction", r.gated_samples);
     std::printf("\n");
   }
   if (r.tube_exits > 0) {
@@ -154,6 +157,7 @@ void run_simulate(const SimOptions& o) {
   m.observer_gain = o.observer_gain;
   m.observer = o.observer;
   m.fixed_filter_gain = o.fixed_filter_gain;
+  m.no_innovation_gate = o.no_innovation_gate;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
@@ -213,6 +217,9 @@ void register_simulate(CLI::App& app) {
   sub->add_flag("--fixed-filter-gain", o->fixed_filter_gain,
                 "the Kalman filter's design gain at every noise level (default: the gain for the noise monitor's level, "
                 "runtime/filter_gain_schedule.hpp)");
+  sub->add_flag("--no-innovation-gate", o->no_innovation_gate,
+                "the Kalman filter takes every measurement (default: a position or angle whose innovation exceeds 20 of its "
+                "standard deviations is a glitch, replaced by the filter's prediction; runtime/tube_controller.hpp)");
   sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));
   sub->add_option("--out", o->out, "output directory");

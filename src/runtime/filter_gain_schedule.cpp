@@ -11,7 +11,11 @@ const std::vector<double>& FilterGainSchedule::scales() {
 }
 
 FilterGainSchedule::FilterGainSchedule(const KalmanDesign& k) {
-  for (double s : scales()) gains_.push_back(s == 1.0 ? k.L : redesign_kalman(k, k.Q, (s * s) * k.R).L);
+  for (double s : scales()) {
+    const KalmanDesign ks = s == 1.0 ? k : redesign_kalman(k, k.Q, (s * s) * k.R);
+    gains_.push_back(ks.L);
+    sds_.push_back(tmpc::innovation_sd(ks));
+  }
 }
 
 const Eigen::MatrixXd& FilterGainSchedule::update(double level) {

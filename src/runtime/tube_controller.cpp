@@ -81,13 +81,16 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       B_a_ = k.B_a;
       L_kf_ = a.estimator_L;
       if (a.filter_start_scheduled()) {
-        L_start_ = start_gains(k, start_covariance(k, a.D.cols(), a.estimator_start(0), a.estimator_start(1), a.estimator_start(2)));
+        L_start_ = start_gains(k, start_covariance(k, a.D.cols(), a.estimator_start(0), a.estimator_start(1), a.estimator_start(2)),
+                               1e-3, 2000, &start_sd_);
       }
       E_c_ = a.estimator_E_c;
       rows_ = a.estimator_rows;
       xi_ = xi_pred_ = Eigen::VectorXd::Zero(k.A_a.rows());
       x_hat_ = Eigen::VectorXd::Zero(n);
       innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
+      innov_sd_ = innovation_sd(k.P.size() > 0 ? k : redesign_kalman(k, k.Q, k.R));
+      gate_run_.assign(rows_.size(), 0);
     }
     if (opt_.observer == "switched") {
       if (!a.switched_observer()) throw std::invalid_argument("tube controller: observer switched, but the artifact has no noise monitor");
@@ -140,6 +143,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   c_kf_.setZero();
   if (monitor_) monitor_->reset();
   if (schedule_) schedule_->reset();
+  std::fill(gate_run_.begin(), gate_run_.end(), 0);
   w_ = kalman_ ? 1.0 : 0.0;
   u_s_.setZero();
   v_prev_.setZero();
@@ -158,6 +162,31 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, bool consecutive) {
   x_n_ = a_.N_x.cwiseProduct(x_tilde);
   y_ = x_n_;
+  // The filter's prediction of this measurement, and its innovation gate (header).
+  out_.gated_rows = 0;
+  const bool predicted = kalman_ && have_prev_ && consecutive && x_n_.allFinite();
+  if (predicted) {
+    xi_pred_.noalias() = A_a_ * xi_;
+    xi_pred_.noalias() += B_a_ * u_prev_n_;
+    if (opt_.innovation_gate && !prev_off_law_) {
+      const Eigen::VectorXd& sd = kf_step_ < start_sd_.size() ? start_sd_[kf_step_]
+                                  : schedule_                 ? schedule_->innovation_sd()
+                                                              : innov_sd_;
+      for (std::size_t j = 0; j < rows_.size(); ++j) {
+        const int r = rows_[j];
+        int& run = gate_run_[j];
+        const StateGroup g = group_of(a_.kinds[static_cast<std::size_t>(r)]);
+        if (g != StateGroup::Position && g != StateGroup::Angle) continue;
+        if (std::abs(y_(r) - xi_pred_(r)) <= kInnovationGate_sigmas * sd(static_cast<Eigen::Index>(j))) {
+          run = 0;
+        } else if (run < kGateRun) {
+          y_(r) = x_n_(r) = xi_pred_(r);
+          ++run;
+          ++out_.gated_rows;
+        }
+      }
+    }
+  }
   // The one-step residual of the measurement r = y - A y_prev - B u_prev, once: the
   // residual observer's input and the noise monitor's (a non-finite state is left to
   // the solver's input check and reaches neither).
@@ -193,8 +222,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       next_.noalias() += a_.D * d_kf_;
       next_ += c_kf_;
       x_hat_.tail(ni) = next_.tail(ni);
-      xi_pred_.noalias() = A_a_ * xi_;
-      xi_pred_.noalias() += B_a_ * u_prev_n_;
+      // xi_pred_: the prediction, above.
     } else if (from_prior_) {
       // The first period after reset(): predicted = the prior; the integrals measured.
       // A position or yaw row whose first measurement lies more than kPriorGate_sigmas

@@ -64,6 +64,12 @@ void noise_from(Section s, NoiseSpec& n) {
     Section gs = s.section(groups[g]);
     if (gs.has("white")) n.white[static_cast<std::size_t>(g)] = gs.number_in("white", 0.0, 1e3);
     if (gs.has("bias")) n.bias[static_cast<std::size_t>(g)] = gs.number_in("bias", -1e3, 1e3);
+    if (gs.has("outlier")) {
+      Section os = gs.section("outlier");  // {size, probability}: a glitch per sample and row
+      n.outlier[static_cast<std::size_t>(g)] = os.number_in("size", 0.0, 1e3);
+      n.outlier_probability[static_cast<std::size_t>(g)] = os.number_in("probability", 0.0, 1.0);
+      os.finish();
+    }
     gs.finish();
   }
   s.finish();

@@ -70,7 +70,8 @@ KalmanDesign redesign_kalman(const KalmanDesign& model, const Eigen::MatrixXd& Q
   return k;
 }
 
-std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::MatrixXd& P0, double tolerance, int max_steps) {
+std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::MatrixXd& P0, double tolerance, int max_steps,
+                                         std::vector<Eigen::VectorXd>* innovation_sds) {
   const Eigen::Index na = k.A_a.rows(), ny = k.C.rows();
   if (P0.rows() != na || P0.cols() != na || k.Q.rows() != na || k.R.rows() != ny || k.L.rows() != na || k.L.cols() != ny) {
     throw std::invalid_argument("start_gains: P0 and Q must be " + std::to_string(na) + " square, R " + std::to_string(ny) +
@@ -80,8 +81,10 @@ std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::Mat
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(na, na);
   std::vector<Eigen::MatrixXd> gains;
   Eigen::MatrixXd P = 0.5 * (P0 + P0.transpose());
+  if (innovation_sds != nullptr) innovation_sds->clear();
   for (int step = 0; step < max_steps; ++step) {
     const Eigen::MatrixXd S = k.C * P * k.C.transpose() + k.R;
+    if (innovation_sds != nullptr) innovation_sds->push_back(S.diagonal().cwiseMax(0.0).cwiseSqrt());
     const Eigen::LLT<Eigen::MatrixXd> llt(S);
     if (llt.info() != Eigen::Success) throw std::runtime_error("Kalman filter start: C P C' + R is not positive definite at step " + std::to_string(step));
     Eigen::MatrixXd L = llt.solve(k.C * P).transpose();
@@ -248,6 +251,10 @@ Eigen::MatrixXd stationary_covariance(const Eigen::MatrixXd& A, const Eigen::Mat
     if (Ak.cwiseAbs().maxCoeff() < 1e-14) return 0.5 * (Sigma + Sigma.transpose());
   }
   throw std::runtime_error("stationary_covariance: the loop is not stable (the sum does not converge)");
+}
+
+Eigen::VectorXd innovation_sd(const KalmanDesign& k) {
+  return (k.C * k.P * k.C.transpose() + k.R).diagonal().cwiseMax(0.0).cwiseSqrt();
 }
 
 }  // namespace tmpc

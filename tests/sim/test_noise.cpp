@@ -57,5 +57,50 @@ TEST(SensorNoise, SeededAndValidated) {
   EXPECT_THROW(SensorNoise(spec, kinds), std::invalid_argument);
 }
 
+// Glitches: each sample of a group's rows is off by +-size with the given probability
+// (binomial oracle over 200,000 samples: within 4 standard deviations), both signs
+// alike; they come from their own generator, so the white noise of a scenario is the
+// same sample for sample with glitches added; out-of-range specs are refused.
+TEST(SensorNoise, GlitchesComeWithTheirProbabilityOnTheirOwnStream) {
+  NoiseSpec clean;
+  clean.white = {0.005, 0.0, 0.0, 0.0};
+  clean.seed = 4;
+  NoiseSpec glitchy = clean;
+  glitchy.outlier = {0.3, 0.0, 0.0, 0.0};
+  glitchy.outlier_probability = {0.002, 0.5, 0.0, 0.0};  // no size on the angles: nothing there
+  const std::vector<StateKind> kinds = {StateKind::Position, StateKind::Angle};
+  SensorNoise a(clean, kinds), b(glitchy, kinds);
+  const int draws = 200000;
+  long up = 0, down = 0;
+  for (int k = 0; k < draws; ++k) {
+    Eigen::VectorXd xa = Eigen::VectorXd::Zero(2), xb = xa;
+    a.apply(xa);
+    b.apply(xb);
+    const double off = xb(0) - xa(0);
+    if (off > 0.15) {
+      ++up;
+      ASSERT_NEAR(off, 0.3, 1e-12);
+    } else if (off < -0.15) {
+      ++down;
+      ASSERT_NEAR(off, -0.3, 1e-12);
+    } else {
+      ASSERT_EQ(off, 0.0) << "the white noise changed with glitches added, sample " << k;
+    }
+    ASSERT_EQ(xb(1), 0.0);
+  }
+  const double n = draws, p = 0.002, sd = std::sqrt(n * p * (1.0 - p));
+  EXPECT_NEAR(static_cast<double>(up + down), n * p, 4.0 * sd);
+  EXPECT_NEAR(static_cast<double>(up), 0.5 * static_cast<double>(up + down), 4.0 * std::sqrt(0.25 * (up + down)));
+  EXPECT_EQ(b.glitches(), up + down);
+  EXPECT_EQ(a.glitches(), 0);
+  EXPECT_TRUE(glitchy.any());
+  NoiseSpec bad = glitchy;
+  bad.outlier_probability[0] = 1.5;
+  EXPECT_THROW(SensorNoise(bad, kinds), std::invalid_argument);
+  bad = glitchy;
+  bad.outlier[0] = -0.1;
+  EXPECT_THROW(SensorNoise(bad, kinds), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tmpc

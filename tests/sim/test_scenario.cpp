@@ -69,7 +69,7 @@ disturbances:
   - {type: ramp, start: 2, end: 4, force: [0, 1, 0]}
   - {type: sine, start: 0, end: 8, amplitude: [0, 0, 0.2], frequency: 0.5, phase: 0.1}
   - {type: gust, magnitude: 1.5, time_constant: 1, redraw: 8, seed: 3, horizontal: true, on: body}
-noise: {seed: 9, position: {white: 0.005, bias: 0.01}, angular_rate: {white: 0.02}}
+noise: {seed: 9, position: {white: 0.005, bias: 0.01, outlier: {size: 0.3, probability: 0.002}}, angular_rate: {white: 0.02}}
 plant: {model: mujoco, scale: {body_mass: 1.2, rotor_inertia: 0.8}}
 )", "s.yaml");
   EXPECT_EQ(s.name, "s");  // from the file name
@@ -82,6 +82,9 @@ plant: {model: mujoco, scale: {body_mass: 1.2, rotor_inertia: 0.8}}
   EXPECT_TRUE(s.disturbances.events()[3].horizontal);
   EXPECT_DOUBLE_EQ(s.noise.bias[static_cast<std::size_t>(StateGroup::Position)], 0.01);
   EXPECT_EQ(s.noise.seed, 9u);
+  EXPECT_DOUBLE_EQ(s.noise.outlier[static_cast<std::size_t>(StateGroup::Position)], 0.3);
+  EXPECT_DOUBLE_EQ(s.noise.outlier_probability[static_cast<std::size_t>(StateGroup::Position)], 0.002);
+  EXPECT_EQ(s.noise.outlier[static_cast<std::size_t>(StateGroup::AngularRate)], 0.0);
   EXPECT_EQ(s.plant.model, "mujoco");
   // The vehicle of a run: the explicit factors, then the Monte Carlo draw on top.
   const VehicleParams& v = test::default_config().vehicle;
@@ -113,6 +116,9 @@ TEST(Scenario, BadInputNamesTheFileAndTheKey) {
   expect(error_of(std::string(kHover) + "disturbances:\n  - {type: gust, magnitude: 1, time_constant: 0, redraw: 1}\n"),
          "disturbances[0].time_constant");
   expect(error_of(std::string(kHover) + "noise: {angle: {white: -0.1}}\n"), "noise.angle.white");
+  expect(error_of(std::string(kHover) + "noise: {position: {outlier: {size: 0.3, probability: 2}}}\n"),
+         "noise.position.outlier.probability");
+  expect(error_of(std::string(kHover) + "noise: {position: {outlier: {size: 0.3}}}\n"), "noise.position.outlier");
   expect(error_of(std::string(kHover) + "plant: {model: gazebo}\n"), "plant.model");
   expect(error_of(std::string(kHover) + "plant: {scale: {body_mass: 0}}\n"), "plant.scale.body_mass");
   expect(error_of("duration: 10\ntrajectory: {type: waypoints, points: [[0, 0, 1], [0, 0, 1]], max_speed: 1, "

@@ -33,11 +33,14 @@ class FilterGainSchedule {
   const Eigen::MatrixXd& update(double level);
   const Eigen::MatrixXd& gain() const { return gains_[static_cast<std::size_t>(index_)]; }
   double scale() const { return scales()[static_cast<std::size_t>(index_)]; }
+  /// The steady innovation's standard deviations under the noise of the gain flown.
+  const Eigen::VectorXd& innovation_sd() const { return sds_[static_cast<std::size_t>(index_)]; }
   /// Back to the design's gain.
   void reset() { index_ = 0; }
 
  private:
   std::vector<Eigen::MatrixXd> gains_;
+  std::vector<Eigen::VectorXd> sds_;
   int index_ = 0;
 };
 

@@ -38,7 +38,8 @@ struct TelemetryRecord {
   std::uint8_t softened = 0;          ///< the softened QP's input (the hard QP was infeasible)
   double slack_max = 0.0;             ///< its largest slack (physical units of its state)
   std::uint8_t filtered = 0;          ///< the Kalman filter's estimate flew (switched observer: else the measurement)
-  double noise_level = 0.0;           ///< switched observer: the noise monitor's level (fraction of the design's)
+  double noise_level = 0.0;           ///< the noise monitor's level (fraction of the design's)
+  std::uint8_t gated = 0;             ///< measured rows the filter's innovation gate replaced (glitches)
 };
 
 /// The columns of a telemetry file: the artifact's state and input names.

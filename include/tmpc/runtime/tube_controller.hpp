@@ -47,6 +47,18 @@
 // for 3 N). Noise that starts there is read once the hard law flies again.
 // The filter's steady gain follows the monitor's noise level (filter_gain_schedule.hpp,
 // adaptive_filter_gain); the filter alone ("kalman") runs a monitor for that only.
+// Measurement glitches (innovation gating, as in navigation filters; Bar-Shalom, Li and
+// Kirubarajan 2001, 5.4): a measured position or angle whose innovation
+// y_i - (A_a xi + B_a u)_i exceeds kInnovationGate_sigmas of its standard deviation
+// sqrt(C P C' + R)_ii (the start schedule's P of that step, then the steady P of the
+// gain flown; velocities and rates are not gated: a force step shows there first, and
+// a 3 N step's innovations passed 8 sigmas of them) is replaced by the filter's
+// prediction this period, for every observer, the monitor and the law (a glitch read by
+// the residual observer went straight to the servos); at most kGateRun periods in a
+// row, after which the row is taken until its innovation is back inside (a real jump
+// must not lock the filter out). Not after a period of the softened QP or the LQR
+// fallback, as the monitor: there the linear model's prediction is far off (a 4 N
+// force's fallback flight lost the vehicle to the replaced measurements).
 // No allocation in step(); it never throws.
 #pragma once
 
@@ -74,6 +86,9 @@ struct TubeControllerOptions {
   /// (filter_gain_schedule.hpp; the filter alone runs a monitor for the level only);
   /// false: the design's gain at every level.
   bool adaptive_filter_gain = true;
+  /// kalman or switched: the filter's innovation gate replaces glitched position and angle
+  /// measurements by its prediction (below); false: every measurement is taken.
+  bool innovation_gate = true;
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
@@ -107,6 +122,7 @@ struct ControlStep {
   bool filtered = false;     ///< the Kalman filter's estimate flies (switched observer: the monitor's choice)
   double filter_weight = 0.0;  ///< the filter's share of the flown estimate (0: the measurement; kalman: 1)
   double noise_level = 0.0;  ///< the noise monitor's level (fraction of the design's; 0 without one)
+  int gated_rows = 0;  ///< measured rows the filter's innovation gate replaced by its prediction this period
   double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
                                     ///< (during the filter's start schedule, the one it will fly after)
 };
@@ -160,6 +176,8 @@ class TubeController {
   double w_ = 1.0;                         ///< the filter's weight in the flown estimate
   static constexpr double kBlendToFilter_s = 0.1, kBlendToResidual_s = 0.5;
   static constexpr double kPriorGate_sigmas = 5.0;  ///< the first measurement refutes the filter's prior beyond this
+  static constexpr double kInnovationGate_sigmas = 20.0;  ///< a glitch: an innovation beyond this
+  static constexpr int kGateRun = 3;  ///< periods a row may be replaced in a row (then it is a jump, taken)
   bool have_prev_ = false;
   bool prev_off_law_ = false;  ///< last period's input: the softened QP's or the LQR fallback's (monitor skips)
   // Kalman filter (estimator "kalman").
@@ -174,6 +192,11 @@ class TubeController {
   std::size_t kf_step_ = 0;
   std::vector<int> rows_;
   Eigen::VectorXd xi_, xi_pred_, innov_, x_hat_;
+  // The innovation gate (above): the design gain's innovation deviations (the schedule
+  // keeps its own), and per measured row the periods replaced in a row.
+  Eigen::VectorXd innov_sd_;
+  std::vector<Eigen::VectorXd> start_sd_;  ///< per step of the start schedule
+  std::vector<int> gate_run_;
   Eigen::VectorXd u_min_, u_max_;
   ControlStep out_;
   long clipped_ = 0, fallbacks_ = 0;

@@ -84,6 +84,10 @@ KalmanDesign design_kalman(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, c
 /// runtime/filter_gain_schedule.hpp). Throws as design_kalman.
 KalmanDesign redesign_kalman(const KalmanDesign& model, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R);
 
+/// The steady-state innovation's standard deviations, sqrt(diag(C P C' + R)) (ny; P the
+/// a-priori covariance): the scale of the filter's innovation gate (tube_controller.hpp).
+Eigen::VectorXd innovation_sd(const KalmanDesign& k);
+
 /// The filter's start (a time-varying Kalman filter on the same model; Anderson and
 /// Moore, Optimal Filtering, 1979, ch. 3): a filter engaged with the disturbances
 /// unknown (a mass or trim error reads as a force) takes, from the a-priori covariance
@@ -96,8 +100,10 @@ KalmanDesign redesign_kalman(const KalmanDesign& model, const Eigen::MatrixXd& Q
 /// of k.L (max-norm, relative to k.L's), at most max_steps; needs k.P, k.Q, k.R, k.L.
 /// Throws std::runtime_error when a step's C P C' + R is not positive definite.
 /// The defaults end the schedule within 0.1 % of L, after at most 2000 periods (24 s at 12 ms).
+/// `innovation_sds`, when given, receives each step's innovation standard deviations
+/// sqrt(diag(C P C' + R)) (the start's innovation gate, tube_controller.hpp).
 std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::MatrixXd& P0, double tolerance = 1e-3,
-                                         int max_steps = 2000);
+                                         int max_steps = 2000, std::vector<Eigen::VectorXd>* innovation_sds = nullptr);
 
 /// P0 of a filter engaged with the disturbances unknown and the state known to within
 /// its measurement noise: block diagonal, the force's block force_std^2 I, the
