@@ -89,8 +89,12 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       xi_ = xi_pred_ = Eigen::VectorXd::Zero(k.A_a.rows());
       x_hat_ = Eigen::VectorXd::Zero(n);
       innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
-      innov_sd_ = innovation_sd(k.P.size() > 0 ? k : redesign_kalman(k, k.Q, k.R));
+      innov_sd_ = innovation_sd(k);
       gate_run_.assign(rows_.size(), 0);
+      for (std::size_t j = 0; j < rows_.size(); ++j) {
+        const StateGroup g = group_of(a.kinds[static_cast<std::size_t>(rows_[j])]);
+        if (g == StateGroup::Position || g == StateGroup::Angle) gated_rows_.push_back(j);
+      }
     }
     if (opt_.observer == "switched") {
       if (!a.switched_observer()) throw std::invalid_argument("tube controller: observer switched, but the artifact has no noise monitor");
@@ -172,11 +176,9 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       const Eigen::VectorXd& sd = kf_step_ < start_sd_.size() ? start_sd_[kf_step_]
                                   : schedule_                 ? schedule_->innovation_sd()
                                                               : innov_sd_;
-      for (std::size_t j = 0; j < rows_.size(); ++j) {
+      for (std::size_t j : gated_rows_) {
         const int r = rows_[j];
         int& run = gate_run_[j];
-        const StateGroup g = group_of(a_.kinds[static_cast<std::size_t>(r)]);
-        if (g != StateGroup::Position && g != StateGroup::Angle) continue;
         if (std::abs(y_(r) - xi_pred_(r)) <= kInnovationGate_sigmas * sd(static_cast<Eigen::Index>(j))) {
           run = 0;
         } else if (run < kGateRun) {

@@ -70,6 +70,11 @@ KalmanDesign redesign_kalman(const KalmanDesign& model, const Eigen::MatrixXd& Q
   return k;
 }
 
+namespace {
+/// The standard deviations on a covariance's diagonal.
+Eigen::VectorXd diagonal_sd(const Eigen::MatrixXd& S) { return S.diagonal().cwiseMax(0.0).cwiseSqrt(); }
+}  // namespace
+
 std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::MatrixXd& P0, double tolerance, int max_steps,
                                          std::vector<Eigen::VectorXd>* innovation_sds) {
   const Eigen::Index na = k.A_a.rows(), ny = k.C.rows();
@@ -84,7 +89,7 @@ std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::Mat
   if (innovation_sds != nullptr) innovation_sds->clear();
   for (int step = 0; step < max_steps; ++step) {
     const Eigen::MatrixXd S = k.C * P * k.C.transpose() + k.R;
-    if (innovation_sds != nullptr) innovation_sds->push_back(S.diagonal().cwiseMax(0.0).cwiseSqrt());
+    if (innovation_sds != nullptr) innovation_sds->push_back(diagonal_sd(S));
     const Eigen::LLT<Eigen::MatrixXd> llt(S);
     if (llt.info() != Eigen::Success) throw std::runtime_error("Kalman filter start: C P C' + R is not positive definite at step " + std::to_string(step));
     Eigen::MatrixXd L = llt.solve(k.C * P).transpose();
@@ -253,8 +258,6 @@ Eigen::MatrixXd stationary_covariance(const Eigen::MatrixXd& A, const Eigen::Mat
   throw std::runtime_error("stationary_covariance: the loop is not stable (the sum does not converge)");
 }
 
-Eigen::VectorXd innovation_sd(const KalmanDesign& k) {
-  return (k.C * k.P * k.C.transpose() + k.R).diagonal().cwiseMax(0.0).cwiseSqrt();
-}
+Eigen::VectorXd innovation_sd(const KalmanDesign& k) { return diagonal_sd(k.C * k.P * k.C.transpose() + k.R); }
 
 }  // namespace tmpc

@@ -196,6 +196,7 @@ class TubeController {
   // keeps its own), and per measured row the periods replaced in a row.
   Eigen::VectorXd innov_sd_;
   std::vector<Eigen::VectorXd> start_sd_;  ///< per step of the start schedule
+  std::vector<std::size_t> gated_rows_;  ///< indices into rows_ of the positions and angles
   std::vector<int> gate_run_;
   Eigen::VectorXd u_min_, u_max_;
   ControlStep out_;
