@@ -91,6 +91,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
       innov_sd_ = innovation_sd(k);
       gate_run_.assign(rows_.size(), 0);
+      gate_prev_innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
       for (std::size_t j = 0; j < rows_.size(); ++j) {
         const StateGroup g = group_of(a.kinds[static_cast<std::size_t>(rows_[j])]);
         if (g == StateGroup::Position || g == StateGroup::Angle) gated_rows_.push_back(j);
@@ -148,6 +149,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   if (monitor_) monitor_->reset();
   if (schedule_) schedule_->reset();
   std::fill(gate_run_.begin(), gate_run_.end(), 0);
+  gate_have_prev_ = false;
   w_ = kalman_ ? 1.0 : 0.0;
   u_s_.setZero();
   v_prev_.setZero();
@@ -172,23 +174,30 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   if (predicted) {
     xi_pred_.noalias() = A_a_ * xi_;
     xi_pred_.noalias() += B_a_ * u_prev_n_;
-    if (opt_.innovation_gate && !prev_off_law_) {
-      const Eigen::VectorXd& sd = kf_step_ < start_sd_.size() ? start_sd_[kf_step_]
-                                  : schedule_                 ? schedule_->innovation_sd()
-                                                              : innov_sd_;
-      for (std::size_t j : gated_rows_) {
-        const int r = rows_[j];
-        int& run = gate_run_[j];
-        if (std::abs(y_(r) - xi_pred_(r)) <= kInnovationGate_sigmas * sd(static_cast<Eigen::Index>(j))) {
-          run = 0;
-        } else if (run < kGateRun) {
-          y_(r) = x_n_(r) = xi_pred_(r);
-          ++run;
-          ++out_.gated_rows;
-        }
+    const Eigen::VectorXd& sd = kf_step_ < start_sd_.size() ? start_sd_[kf_step_]
+                                : schedule_                 ? schedule_->innovation_sd()
+                                                            : innov_sd_;
+    const bool gate = opt_.innovation_gate && !prev_off_law_;
+    for (std::size_t j : gated_rows_) {
+      const int r = rows_[j];
+      const auto i = static_cast<Eigen::Index>(j);
+      const double nu = y_(r) - xi_pred_(r), bound = kInnovationGate_sigmas * sd(i);
+      // A glitch arrives in one period; a real transient the filter lags grows its
+      // innovation over several (header).
+      const bool sudden = !gate_have_prev_ || std::abs(nu - gate_prev_innov_(i)) > bound;
+      gate_prev_innov_(i) = nu;
+      if (!gate) continue;
+      int& run = gate_run_[j];
+      if (std::abs(nu) <= bound) {
+        run = 0;
+      } else if (run > 0 ? run < kGateRun : sudden) {
+        y_(r) = x_n_(r) = xi_pred_(r);
+        ++run;
+        ++out_.gated_rows;
       }
     }
   }
+  gate_have_prev_ = predicted;
   // The one-step residual of the measurement r = y - A y_prev - B u_prev, once: the
   // residual observer's input and the noise monitor's (a non-finite state is left to
   // the solver's input check and reaches neither).
