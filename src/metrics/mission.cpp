@@ -104,6 +104,11 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   for (double t : sc.disturbances.event_times()) {
     if (t > 0.0 && t < duration) mm.window_starts.push_back(t);
   }
+  for (const ActuatorFault& f : sc.faults) {  // a fault's onset opens a window too
+    if (f.start > 0.0 && f.start < duration) mm.window_starts.push_back(f.start);
+  }
+  std::sort(mm.window_starts.begin(), mm.window_starts.end());
+  mm.window_starts.erase(std::unique(mm.window_starts.begin(), mm.window_starts.end()), mm.window_starts.end());
   const std::size_t windows = mm.window_starts.size();
   mm.tube_exits_per_step.assign(windows, 0);
   mm.tube_ratio_max_per_step.assign(windows, 0.0);

@@ -30,6 +30,13 @@ std::unique_ptr<Plant> make_scenario_plant(const PlantModel& m, const Scenario& 
     }
     p = make_linear_plant(m.A, m.B, m.D, s.disturbances);
   }
+  if (!s.faults.empty()) {
+    try {
+      p = with_actuator_faults(std::move(p), s.faults);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(s.source + ": " + e.what());
+    }
+  }
   Eigen::VectorXd x0 = x_r0;
   // The start offset: position (the first three position states) and yaw.
   int pos = 0;

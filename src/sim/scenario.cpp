@@ -75,6 +75,26 @@ void noise_from(Section s, NoiseSpec& n) {
   s.finish();
 }
 
+ActuatorFault fault_from(Section s) {
+  ActuatorFault f;
+  const std::string type = s.text("type", {"efficiency", "bias", "stuck"});
+  f.input = static_cast<int>(s.integer_in("input", 0, 1000));
+  f.start = s.has("start") ? s.number_in("start", 0.0, 1e7) : 0.0;
+  f.end = s.has("end") ? s.number_in("end", 0.0, 1e7) : std::numeric_limits<double>::infinity();
+  if (type == "efficiency") {
+    f.kind = ActuatorFault::Kind::Efficiency;
+    f.factor = s.number_in("factor", 0.0, 10.0);
+  } else if (type == "bias") {
+    f.kind = ActuatorFault::Kind::Bias;
+    f.value = s.number_in("value", -1e3, 1e3);
+  } else {
+    f.kind = ActuatorFault::Kind::Stuck;
+  }
+  if (!(f.end > f.start)) s.fail(s.key("end"), "must come after the start");
+  s.finish();
+  return f;
+}
+
 void plant_from(Section s, PlantSpec& p) {
   if (s.has("model")) p.model = s.text("model", {"el", "mujoco"});
   if (s.has("scale")) {
@@ -146,6 +166,9 @@ Scenario scenario_from_string(const std::string& yaml, const std::string& source
     }
   }
   if (root.has("noise")) noise_from(root.section("noise"), sc.noise);
+  if (root.has("faults")) {
+    for (Section f : root.sections("faults")) sc.faults.push_back(fault_from(f));
+  }
   if (root.has("plant")) plant_from(root.section("plant"), sc.plant);
   root.finish();
   return sc;

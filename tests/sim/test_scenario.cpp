@@ -70,6 +70,10 @@ disturbances:
   - {type: sine, start: 0, end: 8, amplitude: [0, 0, 0.2], frequency: 0.5, phase: 0.1}
   - {type: gust, magnitude: 1.5, time_constant: 1, redraw: 8, seed: 3, horizontal: true, on: body}
 noise: {seed: 9, position: {white: 0.005, bias: 0.01, outlier: {size: 0.3, probability: 0.002}}, angular_rate: {white: 0.02}}
+faults:
+  - {type: efficiency, input: 0, factor: 0.85, start: 3}
+  - {type: bias, input: 2, value: -0.003, start: 4, end: 6}
+  - {type: stuck, input: 3, start: 7}
 plant: {model: mujoco, scale: {body_mass: 1.2, rotor_inertia: 0.8}}
 )", "s.yaml");
   EXPECT_EQ(s.name, "s");  // from the file name
@@ -85,6 +89,16 @@ plant: {model: mujoco, scale: {body_mass: 1.2, rotor_inertia: 0.8}}
   EXPECT_DOUBLE_EQ(s.noise.outlier[static_cast<std::size_t>(StateGroup::Position)], 0.3);
   EXPECT_DOUBLE_EQ(s.noise.outlier_probability[static_cast<std::size_t>(StateGroup::Position)], 0.002);
   EXPECT_EQ(s.noise.outlier[static_cast<std::size_t>(StateGroup::AngularRate)], 0.0);
+  ASSERT_EQ(s.faults.size(), 3u);
+  EXPECT_EQ(s.faults[0].kind, ActuatorFault::Kind::Efficiency);
+  EXPECT_DOUBLE_EQ(s.faults[0].factor, 0.85);
+  EXPECT_TRUE(std::isinf(s.faults[0].end));
+  EXPECT_EQ(s.faults[1].kind, ActuatorFault::Kind::Bias);
+  EXPECT_DOUBLE_EQ(s.faults[1].value, -0.003);
+  EXPECT_DOUBLE_EQ(s.faults[1].end, 6.0);
+  EXPECT_EQ(s.faults[2].kind, ActuatorFault::Kind::Stuck);
+  EXPECT_EQ(s.faults[2].input, 3);
+  EXPECT_DOUBLE_EQ(s.faults[2].start, 7.0);
   EXPECT_EQ(s.plant.model, "mujoco");
   // The vehicle of a run: the explicit factors, then the Monte Carlo draw on top.
   const VehicleParams& v = test::default_config().vehicle;
@@ -119,6 +133,11 @@ TEST(Scenario, BadInputNamesTheFileAndTheKey) {
   expect(error_of(std::string(kHover) + "noise: {position: {outlier: {size: 0.3, probability: 2}}}\n"),
          "noise.position.outlier.probability");
   expect(error_of(std::string(kHover) + "noise: {position: {outlier: {size: 0.3}}}\n"), "noise.position.outlier");
+  expect(error_of(std::string(kHover) + "faults:\n  - {type: jammed, input: 0}\n"), "faults[0].type");
+  expect(error_of(std::string(kHover) + "faults:\n  - {type: bias, input: 0}\n"), "faults[0].value");
+  expect(error_of(std::string(kHover) + "faults:\n  - {type: stuck, input: -1}\n"), "faults[0].input");
+  expect(error_of(std::string(kHover) + "faults:\n  - {type: stuck, input: 0, start: 5, end: 4}\n"), "faults[0].end");
+  expect(error_of(std::string(kHover) + "faults:\n  - {type: stuck, input: 0, factor: 0.5}\n"), "faults[0].factor: unknown key");
   expect(error_of(std::string(kHover) + "plant: {model: gazebo}\n"), "plant.model");
   expect(error_of(std::string(kHover) + "plant: {scale: {body_mass: 0}}\n"), "plant.scale.body_mass");
   expect(error_of("duration: 10\ntrajectory: {type: waypoints, points: [[0, 0, 1], [0, 0, 1]], max_speed: 1, "

@@ -12,6 +12,10 @@
 //   noise:                                  (optional) sensor noise (sim/noise.hpp)
 //     {seed: 4, position: {white: 0.005, bias: 0}, angle: {white: 0.0052},
 //      velocity: {white: 0.01}, angular_rate: {white: 0.02}}
+//   faults:                                 (optional) actuator faults (sim/actuator_fault.hpp)
+//     - {type: efficiency, input: 0, factor: 0.9, start: 30, end: 60}
+//     - {type: bias, input: 2, value: 0.01, start: 20}
+//     - {type: stuck, input: 3, start: 40}
 //   plant:                                  (optional)
 //     model: el | mujoco                    (the tiltrotor's plant)
 //     scale: {load_mass: 1, load_inertia: 1, body_mass: 1, body_inertia: 1,
@@ -30,6 +34,7 @@
 #include "tmpc/model/config.hpp"
 #include "tmpc/model/perturbation.hpp"
 #include "tmpc/model/trajectory.hpp"
+#include "tmpc/sim/actuator_fault.hpp"
 #include "tmpc/sim/disturbance.hpp"
 #include "tmpc/sim/noise.hpp"
 
@@ -49,6 +54,7 @@ struct Scenario {
   double start_yaw_offset = 0.0;
   DisturbanceProfile disturbances;
   NoiseSpec noise;
+  std::vector<ActuatorFault> faults;  ///< in the plant, on the input it is sent
   PlantSpec plant;
   /// The vehicle of a run: `p` scaled by the explicit factors, then (run >= 0) by Monte
   /// Carlo run `run`'s draw (seed: `seed` >= 0, else the scenario's).
