@@ -30,7 +30,7 @@ struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
   bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false, fixed_filter_gain = false,
-       no_innovation_gate = false;
+       no_innovation_gate = false, no_step_detection = false;
   std::string tube_law;
   double observer_gain = 0.0;
   std::string observer;
@@ -90,6 +90,7 @@ void print_metrics(const MissionMetrics& r) {
                   r.filter_louder_periods);
     }
     if (r.gated_samples > 0) std::printf("; %ld glitched samples replaced by the filter's prediction", r.gated_samples);
+    if (r.step_detections > 0) std::printf("; %ld disturbance steps detected", r.step_detections);
     std::printf("\n");
   }
   if (r.tube_exits > 0) {
@@ -158,6 +159,7 @@ void run_simulate(const SimOptions& o) {
   m.observer = o.observer;
   m.fixed_filter_gain = o.fixed_filter_gain;
   m.no_innovation_gate = o.no_innovation_gate;
+  m.no_step_detection = o.no_step_detection;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
@@ -220,6 +222,9 @@ void register_simulate(CLI::App& app) {
   sub->add_flag("--no-innovation-gate", o->no_innovation_gate,
                 "the Kalman filter takes every measurement (default: a position or angle whose innovation exceeds 20 of its "
                 "standard deviations is a glitch, replaced by the filter's prediction; runtime/tube_controller.hpp)");
+  sub->add_flag("--no-step-detection", o->no_step_detection,
+                "the Kalman filter keeps its gains at a disturbance step (default: a step detected in its innovations, a "
+                "rotor's thrust loss, re-opens its disturbance covariance; runtime/tube_controller.hpp)");
   sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));
   sub->add_option("--out", o->out, "output directory");

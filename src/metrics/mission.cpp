@@ -54,6 +54,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   to.reinitialize_nominal = o.reinitialize_nominal;
   to.adaptive_filter_gain = !o.fixed_filter_gain;
   to.innovation_gate = !o.no_innovation_gate;
+  to.step_detection = !o.no_step_detection;
   std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
   if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
   TubeController ctrl(a, std::move(solver), to);
@@ -125,7 +126,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     for (const std::string& n : a.input_names) csv << ",ubar_" << n;
     csv << ",status,iterations,solve_us,fallback,clipped,in_tube,in_state_box,tube_ratio,tube_worst,softened,slack_max,filtered,noise_level";
     for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, a.D.cols()); ++i) csv << ",dhat_" << "xyz"[i];
-    csv << ",gated\n";
+    csv << ",gated,step\n";
   }
   const double box_limit = 10.0;
   bool filtered_before = false;
@@ -192,6 +193,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     filtered_before = s.filtered;
     mm.noise_level_max = std::max(mm.noise_level_max, s.noise_level);
     mm.gated_samples += s.gated_rows;
+    if (s.step_detected) ++mm.step_detections;
     mm.filter_louder_periods += s.filtered && s.filter_noise_scale > 1.0;
     if (s.filtered) mm.filter_noise_scale_max = std::max(mm.filter_noise_scale_max, s.filter_noise_scale);
     if (s.softened) {
@@ -220,7 +222,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
           << s.clipped << "," << s.in_tube << "," << a.X.contains(a.N_x.cwiseProduct(judged)) << "," << s.tube_ratio
           << "," << s.tube_worst << "," << s.softened << "," << s.slack_max << "," << s.filtered << "," << s.noise_level;
       for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, s.d_hat.size()); ++i) csv << "," << s.d_hat(i);
-      csv << "," << s.gated_rows << "\n";
+      csv << "," << s.gated_rows << "," << s.step_detected << "\n";
     }
   }
   if (err.join().active()) {
@@ -282,7 +284,8 @@ std::string metrics_json(const MissionMetrics& m) {
   if (!m.join_offset.empty()) j["reference_join"] = {{"offset", m.join_offset}, {"duration_s", m.join_duration}};
   j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max},
                    {"filter_louder_periods", m.filter_louder_periods}, {"filter_noise_scale_max", m.filter_noise_scale_max},
-                   {"gated_samples", m.gated_samples}};
+                   {"gated_samples", m.gated_samples},
+                   {"step_detections", m.step_detections}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;

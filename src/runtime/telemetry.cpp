@@ -28,7 +28,7 @@ TelemetryWriter::TelemetryWriter(const std::string& path, TelemetryLayout layout
   static const char* const dn[3] = {"dhat_x", "dhat_y", "dhat_z"};
   for (int i = 0; i < layout_.disturbances; ++i) std::fprintf(f_, ",%s", dn[i]);
   for (std::size_t i = 0; i < io::kRejectReasons; ++i) std::fprintf(f_, ",rejected_%s", io::to_string(static_cast<io::Reject>(i)));
-  std::fprintf(f_, ",peer_session,restart,softened,slack_max,filtered,noise_level,gated\n");
+  std::fprintf(f_, ",peer_session,restart,softened,slack_max,filtered,noise_level,gated,step\n");
   thread_ = std::thread([this] { run(); });
 }
 
@@ -58,8 +58,8 @@ void TelemetryWriter::write(const TelemetryRecord& r) {
                r.period_us, r.fallback, r.clipped, r.in_tube, r.safe_command);
   for (int i = 0; i < layout_.disturbances; ++i) std::fprintf(f_, ",%.6g", r.d_hat[i]);
   for (std::int32_t c : r.link_rejects) std::fprintf(f_, ",%d", c);
-  std::fprintf(f_, ",%u,%u,%u,%.6g,%u,%.4g,%u\n", r.peer_session, r.restart, r.softened, r.slack_max, r.filtered,
-               r.noise_level, r.gated);
+  std::fprintf(f_, ",%u,%u,%u,%.6g,%u,%.4g,%u,%u\n", r.peer_session, r.restart, r.softened, r.slack_max, r.filtered,
+               r.noise_level, r.gated, r.step);
 }
 
 void TelemetryWriter::run() {

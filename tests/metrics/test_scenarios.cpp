@@ -169,8 +169,11 @@ TEST(Scenarios, TheNoisySensorDesignFliesTheNoiseAndKeepsTheMpcThroughInfeasible
   EXPECT_NEAR(quiet.rmse[1], 0.0273, 0.02 * 0.0273);
   EXPECT_NEAR(quiet.rmse[2], 0.0100, 0.02 * 0.0100);
   const MissionMetrics held = fly("sustained_force", a);  // 3 N from 10 s: every QP infeasible
-  expect_softened_flight(held, 5809.0, 5794.0);  // no LQR takeover: the softened QP flies
-  EXPECT_NEAR(held.violation_max_ratio, 6.7, 0.05 * 6.7);  // d_z, in the step's transient
+  expect_softened_flight(held, 5814.0, 5811.0);  // no LQR takeover: the softened QP flies
+  // d_z, in the step's transient: the step is read in the filter's innovations, which
+  // re-opens its residuals (6.7 with the steady gain alone).
+  EXPECT_NEAR(held.violation_max_ratio, 5.44, 0.05 * 5.44);
+  EXPECT_EQ(held.step_detections, 1);
   const MissionMetrics gusts = fly("gusts", a);
   expect_softened_flight(gusts, 714.0, 979.0);  // (1048 fallbacks with the shipped design before soft constraints)
   std::printf("gusts, noisy-sensor design: worst %s %.3f\n", gusts.violation_worst_state.c_str(), gusts.violation_max_ratio);
@@ -487,7 +490,10 @@ TEST(Scenarios, TheGustsAloneAreFlownWithoutAViolation) {
 }
 
 // README "Noisy sensors": the force envelope. A sustained 4 N force on the load aborts
-// both designs' softened MPC within 0.9 s of its start (its swing transient); with soft
+// the shipped design's softened MPC within 0.9 s of its start (its swing transient), and
+// the noisy-sensor design's with its filter's steady gain; the filter that reads the
+// step in its innovations keeps it flying (the vertical speed 9.88 times its bound in
+// the transient, the simulator's box at 10); with soft
 // constraints off, the LQR fallback rides it out, on the residual observer alone and on
 // the switched observer, whose monitor skips the fallback's periods (reading them, it
 // took the fallback's transient for 0.081 of the design noise, brought the filter in and
@@ -496,9 +502,18 @@ TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
   const MissionMetrics shipped = fly("sustained_force_4n");
   EXPECT_TRUE(shipped.diverged);
   EXPECT_NEAR(static_cast<double>(shipped.periods), 896.0, 25.0);  // 10.75 s
+  MissionOptions steady;
+  steady.no_step_detection = true;
+  const MissionMetrics lost = run_mission(test::noisy_artifact(), test::shipped_scenario("sustained_force_4n"), steady);
+  EXPECT_TRUE(lost.diverged);
+  EXPECT_NEAR(static_cast<double>(lost.periods), 902.0, 25.0);
   const MissionMetrics noisy = fly("sustained_force_4n", test::noisy_artifact());
-  EXPECT_TRUE(noisy.diverged);
-  EXPECT_NEAR(static_cast<double>(noisy.periods), 902.0, 25.0);
+  EXPECT_FALSE(noisy.diverged);
+  EXPECT_EQ(noisy.periods, 6667);
+  EXPECT_EQ(noisy.fallback_periods, 0);
+  EXPECT_EQ(noisy.step_detections, 1);
+  EXPECT_NEAR(static_cast<double>(noisy.state_constraint_violations), 5828.0, 0.05 * 5828.0);
+  EXPECT_NEAR(noisy.violation_max_ratio, 9.88, 0.05 * 9.88);
   ControllerArtifact hard = test::artifact();
   hard.soft_constraints = false;
   hard.soft_penalty = 0.0;
@@ -843,6 +858,24 @@ TEST(Scenarios, ActuatorFaultsTheControllerIsNotToldOfAreFlown) {
   EXPECT_LT(m.noise_level_max, 0.01);
   expect_rmse(m, 0.0308, 0.0374, 0.0044);
   EXPECT_EQ(m.window_starts, (std::vector<double>{0.0, 20.0, 30.0, 40.0, 50.0, 60.0}));  // the faults' onsets too
+  // With the noisy sensors (the filter flying): the thrust loss is detected as a step in
+  // the filter's innovations, which re-opens its disturbance covariance (README
+  // "Actuator faults"); its steady gain alone reads the loss over about a second.
+  Scenario noisy = test::shipped_scenario("actuator_faults");
+  noisy.noise = test::shipped_scenario("noisy_sensors").noise;
+  const MissionMetrics detected = run_mission(test::artifact(), noisy, MissionOptions{});
+  MissionOptions steady;
+  steady.no_step_detection = true;
+  const MissionMetrics slow = run_mission(test::artifact(), noisy, steady);
+  std::printf("actuator_faults, noisy sensors: %ld violations (%ld steps detected), %ld with the steady gain alone\n",
+              detected.state_constraint_violations, detected.step_detections, slow.state_constraint_violations);
+  EXPECT_FALSE(detected.diverged);
+  EXPECT_EQ(detected.fallback_periods, 0);
+  EXPECT_NEAR(static_cast<double>(detected.state_constraint_violations), 30.0, 0.2 * 30.0) << "README states 30";
+  EXPECT_LT(detected.violation_max_ratio, 1.6);  // 1.46 (2.58 with the steady gain alone)
+  EXPECT_NEAR(static_cast<double>(slow.state_constraint_violations), 142.0, 0.05 * 142.0) << "README states 142";
+  EXPECT_GE(detected.step_detections, 1);
+  EXPECT_EQ(slow.step_detections, 0);
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ struct MissionOptions {
   double observer_gain = 0.0;     ///< > 0: overrides the artifact's
   std::string observer;           ///< "" (the artifact's), "residual", "kalman" or "switched"
   bool no_innovation_gate = false; ///< the Kalman filter: take every measurement (no glitch gate)
+  bool no_step_detection = false;  ///< the Kalman filter keeps its gains at a disturbance step
   bool fixed_filter_gain = false; ///< the Kalman filter (kalman or switched): the design's gain at every noise level
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
@@ -85,6 +86,7 @@ struct MissionMetrics {
   double join_duration = 0.0;               ///< its T (s)
   long observer_switches = 0;               ///< switched observer: changes between filter and measurement
   long gated_samples = 0;                   ///< measured rows the filter's innovation gate replaced (glitches)
+  long step_detections = 0;                 ///< disturbance steps detected (step_detection)
   double noise_level_max = 0.0;             ///< the noise monitor's largest level (switched; kalman with the adaptive gain)
   long filter_louder_periods = 0;           ///< filtered periods whose steady gain is chosen for louder noise than the design's
   double filter_noise_scale_max = 1.0;      ///< the loudest noise (times the design's) a flown gain was for

@@ -62,6 +62,21 @@
 // taken until its innovation is back inside (a real jump must not lock the filter out). Not after a period of the softened QP or the LQR
 // fallback, as the monitor: there the linear model's prediction is far off (a 4 N
 // force's fallback flight lost the vehicle to the replaced measurements).
+// Disturbance steps (step_detection; maneuver detection of tracking filters, Bar-Shalom,
+// Li and Kirubarajan 2001, 11.2): the steady gain, tuned against the noise, reads a
+// new disturbance over about a second (a 15 % thrust loss with noisy sensors: 142
+// violations). Each measured row's innovation over its deviation is summed with a
+// fading memory, s_i <- kStepMemory s_i + nu_i / sd_i (white innovations: |s_i|
+// stays near 1.4 of a deviation); |s_i| > kStepThreshold, confirmed by the next
+// innovation (beyond kStepConfirm deviations, the same sign: a lone outlier decays in
+// the sum), is a step, once per row until its sum is back below half the threshold.
+// The filter then runs, from its current estimate, the gains of a prior with the
+// angular-acceleration residuals unknown (start_gains from start_covariance, the
+// residuals' deviation kReopenResidualStd; the force's block keeps its steady
+// covariance: opened too, the sustained 3 N's transient grew) into its steady gain.
+// Not while the start's schedule runs or within kStepHold periods of a step, not after
+// a softened or fallback period, and only where the noise monitor reads the design's
+// noise (up to kStepNoiseLevel; the re-opened gains are that noise's).
 // No allocation in step(); it never throws.
 #pragma once
 
@@ -92,6 +107,10 @@ struct TubeControllerOptions {
   /// kalman or switched: the filter's innovation gate replaces glitched position and angle
   /// measurements by its prediction (below); false: every measurement is taken.
   bool innovation_gate = true;
+  /// kalman or switched: a step in the disturbances (a rotor's thrust loss), detected in
+  /// the filter's innovations, re-opens the filter's disturbance covariance (below);
+  /// false: the steady gain reads a step at its own pace.
+  bool step_detection = true;
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
@@ -126,6 +145,7 @@ struct ControlStep {
   double filter_weight = 0.0;  ///< the filter's share of the flown estimate (0: the measurement; kalman: 1)
   double noise_level = 0.0;  ///< the noise monitor's level (fraction of the design's; 0 without one)
   int gated_rows = 0;  ///< measured rows the filter's innovation gate replaced by its prediction this period
+  bool step_detected = false;  ///< step_detection: a disturbance step was detected; the filter's gains re-opened
   double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
                                     ///< (during the filter's start schedule, the one it will fly after)
 };
@@ -160,6 +180,12 @@ class TubeController {
   long fallback_count() const { return fallbacks_; }
 
  private:
+  /// The filter's innovation deviations this period: the start's or the re-opened
+  /// prior's schedule, then the steady gain's.
+  const Eigen::VectorXd& innovation_sd_now() const;
+  /// Step detection (above) on this period's innovations.
+  void detect_step();
+
   const ControllerArtifact& a_;
   std::unique_ptr<QpSolver> solver_;
   TubeControllerOptions opt_;
@@ -201,6 +227,17 @@ class TubeController {
   std::vector<Eigen::VectorXd> start_sd_;  ///< per step of the start schedule
   std::vector<std::size_t> gated_rows_;  ///< indices into rows_ of the positions and angles
   std::vector<int> gate_run_;
+  // Step detection (above): the gains of the re-opened prior and their innovation
+  // deviations, which schedule kf_step_ counts in, and the fading sums.
+  std::vector<Eigen::MatrixXd> L_reopen_;
+  std::vector<Eigen::VectorXd> reopen_sd_;
+  bool reopened_ = false;
+  Eigen::VectorXd step_sum_;
+  std::vector<char> step_armed_;    ///< per row: may detect (re-armed once its sum is back below half the threshold)
+  std::vector<char> step_pending_;  ///< per row: its sum passed the threshold last period
+  static constexpr double kStepMemory = 0.7, kStepThreshold = 16.0, kStepConfirm = 4.0, kReopenResidualStd = 3e-3;
+  static constexpr double kStepNoiseLevel = 1.5;  ///< the monitor's level (of the design's noise) up to which steps are read
+  static constexpr std::size_t kStepHold = 50;
   Eigen::VectorXd gate_prev_innov_;  ///< per measured row: last period's innovation (before any gating)
   bool gate_have_prev_ = false;      ///< gate_prev_innov_ is last period's
   Eigen::VectorXd u_min_, u_max_;
