@@ -22,6 +22,26 @@ double design_noise(const ControllerArtifact& a, int i) {
   return a.N_x(i) * sigma[static_cast<int>(group_of(a.kinds[static_cast<std::size_t>(i)]))];
 }
 
+/// A flight of `ctrl` on the exact linear model (normalized states: 1 is a bound) under
+/// the constant force d: each period the true state, edited by sense(k, meas) (noise,
+/// offsets), is measured; the plant applies the controller's input as act(k, u) edits it
+/// (a fault); see(k, step, x) gets the period's decision and the true state after it.
+template <class Sense, class Act, class See>
+void fly_exact(const ControllerArtifact& a, TubeController& ctrl, const Eigen::Vector3d& d, int periods, Sense sense,
+               Act act, See see) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n), u;
+  ctrl.reset(x);
+  for (int k = 0; k < periods; ++k) {
+    meas = x;
+    sense(k, meas);
+    const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq);
+    u = s.u;
+    act(k, u);
+    x = a.A * x + a.B * (u - a.u_eq).cwiseProduct(a.N_u) + a.D * d;
+    see(k, s, x);
+  }
+}
+
 const ControllerArtifact& artifact() {
   static const ControllerArtifact a = test::quick_artifact();
   return a;
@@ -361,19 +381,19 @@ TEST(TubeController, TheInnovationGateReplacesAGlitchAndTakesALastingJump) {
       TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
       std::mt19937_64 rng(12);
       std::normal_distribution<double> normal;
-      Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n);
-      ctrl.reset(x);
       std::vector<Eigen::VectorXd> xs;
       gated.clear();
-      for (int k = 0; k < end; ++k) {
-        meas = x;
-        for (int i = 0; c.noisy && i < a.measured; ++i) meas(i) += design_noise(a, i) * normal(rng);
-        if (k >= from && k < to) meas(0) += offset * std::min(1.0, (k - from + 1.0) / (ramp + 1.0)) * a.N_x(0);
-        const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq);
-        gated.push_back(s.gated_rows);
-        x = a.A * x + a.B * (s.u - a.u_eq).cwiseProduct(a.N_u) + a.D * d;
-        xs.push_back(x.head(a.measured));
-      }
+      fly_exact(
+          a, ctrl, d, end,
+          [&](int k, Eigen::VectorXd& meas) {
+            for (int i = 0; c.noisy && i < a.measured; ++i) meas(i) += design_noise(a, i) * normal(rng);
+            if (k >= from && k < to) meas(0) += offset * std::min(1.0, (k - from + 1.0) / (ramp + 1.0)) * a.N_x(0);
+          },
+          [](int, Eigen::VectorXd&) {},
+          [&](int, const ControlStep& s, const Eigen::VectorXd& x) {
+            gated.push_back(s.gated_rows);
+            xs.push_back(x.head(a.measured));
+          });
       return xs;
     };
     std::vector<int> g_ref, g_gate, g_open, g_jump;
@@ -419,20 +439,20 @@ TEST(TubeController, AStepInTheDisturbancesReopensTheFilter) {
     TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
     std::mt19937_64 rng(21);
     std::normal_distribution<double> normal;
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n);
-    ctrl.reset(x);
     detected.clear();
     double peak = 0.0;
-    for (int k = 0; k < end; ++k) {
-      meas = x;
-      for (int i = 0; i < a.measured; ++i) meas(i) += noise * design_noise(a, i) * normal(rng);
-      const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq);
-      detected.push_back(s.step_detected ? 1 : 0);
-      Eigen::VectorXd u = s.u;
-      if (k >= fault) u(0) *= factor;  // what the rotor gives
-      x = a.A * x + a.B * (u - a.u_eq).cwiseProduct(a.N_u) + a.D * d;
-      if (k >= fault) peak = std::max(peak, x.head(a.measured).cwiseAbs().maxCoeff());
-    }
+    fly_exact(
+        a, ctrl, d, end,
+        [&](int, Eigen::VectorXd& meas) {
+          for (int i = 0; i < a.measured; ++i) meas(i) += noise * design_noise(a, i) * normal(rng);
+        },
+        [&](int k, Eigen::VectorXd& u) {
+          if (k >= fault) u(0) *= factor;  // what the rotor gives
+        },
+        [&](int k, const ControlStep& s, const Eigen::VectorXd& x) {
+          detected.push_back(s.step_detected ? 1 : 0);
+          if (k >= fault) peak = std::max(peak, x.head(a.measured).cwiseAbs().maxCoeff());
+        });
     return peak;
   };
   std::vector<int> on, off, loud;

@@ -21,16 +21,10 @@ std::unique_ptr<Plant> integrator() {
                            DisturbanceProfile{});
 }
 
+/// A fault on `input` over [start, end).
 ActuatorFault fault(ActuatorFault::Kind kind, int input, double start, double end, double factor = 1.0,
                     double value = 0.0) {
-  ActuatorFault f;
-  f.kind = kind;
-  f.input = input;
-  f.start = start;
-  f.end = end;
-  f.factor = factor;
-  f.value = value;
-  return f;
+  return ActuatorFault{kind, input, factor, value, start, end};
 }
 
 TEST(ActuatorFaults, EachKindActsOnItsChannelInsideItsWindow) {

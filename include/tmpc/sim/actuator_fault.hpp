@@ -37,7 +37,6 @@ class ActuatorFaults {
   /// [0, inputs), a non-finite or negative factor, a non-finite bias, or end <= start.
   ActuatorFaults(std::vector<ActuatorFault> faults, int inputs);
   void apply(double t, const Eigen::VectorXd& u, Eigen::VectorXd& applied);
-  const std::vector<ActuatorFault>& faults() const { return faults_; }
 
  private:
   std::vector<ActuatorFault> faults_;
