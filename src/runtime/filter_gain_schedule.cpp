@@ -12,9 +12,8 @@ const std::vector<double>& FilterGainSchedule::scales() {
 
 FilterGainSchedule::FilterGainSchedule(const KalmanDesign& k) {
   for (double s : scales()) {
-    const KalmanDesign ks = s == 1.0 ? k : redesign_kalman(k, k.Q, (s * s) * k.R);
-    gains_.push_back(ks.L);
-    sds_.push_back(tmpc::innovation_sd(ks));
+    designs_.push_back(s == 1.0 ? k : redesign_kalman(k, k.Q, (s * s) * k.R));
+    sds_.push_back(tmpc::innovation_sd(designs_.back()));
   }
 }
 

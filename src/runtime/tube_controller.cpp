@@ -95,13 +95,6 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       step_sum_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
       step_armed_.assign(rows_.size(), 1);
       step_pending_.assign(rows_.size(), 0);
-      if (opt_.step_detection) {
-        // The residuals unknown; the force's block and its correlations kept (0); the
-        // states as at the start (0.5 of their noise where the artifact has no start).
-        const double state = a.estimator_start(2) > 0.0 ? a.estimator_start(2) : 0.5;
-        L_reopen_ = start_gains(k, start_covariance(k, a.D.cols(), 0.0, kReopenResidualStd, state), 1e-3, 2000,
-                                &reopen_sd_);
-      }
       for (std::size_t j = 0; j < rows_.size(); ++j) {
         const StateGroup g = group_of(a.kinds[static_cast<std::size_t>(rows_[j])]);
         if (g == StateGroup::Position || g == StateGroup::Angle) gated_rows_.push_back(j);
@@ -122,6 +115,19 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       s.window_s = a.estimator_monitor(2);
       monitor_ = std::make_unique<NoiseMonitor>(a.A, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
       schedule_ = std::make_unique<FilterGainSchedule>(kalman_model(a));
+    }
+    if (kalman_ && opt_.step_detection) {
+      // Per noise scale of the gain schedule up to kStepScaleMax (the design's alone
+      // without one): the residuals unknown; the force's block and its correlations kept
+      // (0); the states as at the start (0.5 of their noise where the artifact has none).
+      const double state = a.estimator_start(2) > 0.0 ? a.estimator_start(2) : 0.5;
+      const std::vector<double>& scales = FilterGainSchedule::scales();
+      for (std::size_t i = 0; i < (schedule_ ? scales.size() : 1) && scales[i] <= kStepScaleMax; ++i) {
+        const KalmanDesign& ks = schedule_ ? schedule_->design(i) : kalman_model(a);
+        Reopening r;
+        r.gains = start_gains(ks, start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state), 1e-3, 2000, &r.sd);
+        reopen_.push_back(std::move(r));
+      }
     }
   } else {
     theta_ = Eigen::VectorXd::Zero(n + (rate_ ? m : 0));
@@ -180,7 +186,7 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
 }
 
 const Eigen::VectorXd& TubeController::innovation_sd_now() const {
-  const std::vector<Eigen::VectorXd>& opening = reopened_ ? reopen_sd_ : start_sd_;
+  const std::vector<Eigen::VectorXd>& opening = reopened_ ? reopen_[reopen_at_].sd : start_sd_;
   return kf_step_ < opening.size() ? opening[kf_step_] : schedule_ ? schedule_->innovation_sd() : innov_sd_;
 }
 
@@ -205,13 +211,16 @@ void TubeController::detect_step() {
       armed = pending = 0;  // a lone outlier decaying in the sum
     }
   }
-  // The re-opened prior's gains are the design noise's: only where the noise is read at
-  // the design's level (at four times it, before this rule, 98 steps were read in the
-  // noise and the flight had 2678 violations instead of 139).
-  const bool design_noise = monitor_ && monitor_->level() <= kStepNoiseLevel && !(schedule_ && schedule_->scale() > 1.0);
+  // The re-opened prior's gains are those of the noise scale flown: only where the noise
+  // is read near it (re-opened with the design noise's gains at four times that noise,
+  // 98 steps were read in the noise and the flight had 2678 violations instead of 139).
+  const std::size_t at = schedule_ ? schedule_->index() : 0;
+  const double scale = schedule_ ? schedule_->scale() : 1.0;
+  const bool known_noise = monitor_ && at < reopen_.size() && monitor_->level() <= kStepNoiseLevel * scale;
   const bool starting = !reopened_ && kf_step_ < L_start_.size();  // the start's own prior is open
-  if (!step || !design_noise || starting || prev_off_law_ || kf_step_ < kStepHold || L_reopen_.empty()) return;
+  if (!step || !known_noise || starting || prev_off_law_ || kf_step_ < kStepHold) return;
   reopened_ = true;
+  reopen_at_ = at;
   kf_step_ = 0;  // this period's update takes the re-opened prior's first gain
   out_.step_detected = true;
 }
@@ -316,7 +325,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     // the design's, or the one for the monitor's noise level.
     const Eigen::MatrixXd& steady = schedule_ ? schedule_->update(monitor_->level()) : L_kf_;
     out_.filter_noise_scale = schedule_ ? schedule_->scale() : 1.0;
-    const std::vector<Eigen::MatrixXd>& opening = reopened_ ? L_reopen_ : L_start_;
+    const std::vector<Eigen::MatrixXd>& opening = reopened_ ? reopen_[reopen_at_].gains : L_start_;
     const Eigen::MatrixXd& gain = kf_step_ < opening.size() ? opening[kf_step_] : steady;
     ++kf_step_;
     xi_.noalias() += gain * innov_;

@@ -4,7 +4,8 @@ and its figures are parsed and compared with what the README states.
 
     check_cli.py TMPC CONFIG SCRATCH CHECK    (CHECK: openloop-el | openloop-mujoco |
                                                unknown-plant | crosscheck | devices | batch |
-                                               preflight | second-system | best-case)
+                                               preflight | second-system | best-case |
+                                               robustness-sweep)
 """
 import json
 import math
@@ -318,6 +319,25 @@ elif check == "service":
          "priority 0: not named")
     need("no such controller artifact" in install("--controller", art + ".missing", "--port", "/dev/x", rc=2).stderr,
          "missing artifact: not named")
+elif check == "robustness-sweep":
+    # scripts/robustness_sweep.py (README "Flights no test was tuned to"): it writes
+    # scenario files tmpc takes, flies them and reports every flight; bad counts are named.
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "robustness_sweep.py")
+    art = design_quick()
+    out = os.path.join(scratch, "sweep")
+    sweep = [sys.executable, script, "--tmpc", tmpc, "--controller", art, "--out", out, "--jobs", "1"]
+    p = subprocess.run(sweep + ["--count", "3", "--duration", "6"], capture_output=True, text=True, timeout=600)
+    need(p.returncode == 0, f"robustness_sweep.py failed: {p.stdout}{p.stderr}")
+    rows = [line for line in p.stdout.splitlines() if line.startswith("| s0")]
+    need(len(rows) == 3, f"3 flights, {len(rows)} rows:\n{p.stdout}")
+    need(re.search(r"^3 flights: \d+ without a violation", p.stdout, re.M) is not None, f"no totals:\n{p.stdout}")
+    files = sorted(os.listdir(os.path.join(out, "scenarios")))
+    need(len(files) == 3, f"scenario files {files}")
+    for f in files:  # each file is a scenario tmpc reads on its own
+        q = run("check", "--controller", art, "--scenario", os.path.join(out, "scenarios", f), expect_rc=None)
+        need("error" not in (q.stdout + q.stderr).lower(), f"tmpc check {f}: {q.stdout}{q.stderr}")
+    p = subprocess.run(sweep + ["--count", "0"], capture_output=True, text=True, timeout=60)
+    need(p.returncode != 0 and "--count must be in [1, 360], got 0" in p.stderr, f"--count 0: {p.stderr}")
 else:
     sys.exit(f"unknown check {check}")
 

@@ -31,15 +31,19 @@ class FilterGainSchedule {
   explicit FilterGainSchedule(const KalmanDesign& k);
   /// The monitor's level (noise / design noise); returns the gain to fly.
   const Eigen::MatrixXd& update(double level);
-  const Eigen::MatrixXd& gain() const { return gains_[static_cast<std::size_t>(index_)]; }
+  const Eigen::MatrixXd& gain() const { return designs_[static_cast<std::size_t>(index_)].L; }
   double scale() const { return scales()[static_cast<std::size_t>(index_)]; }
+  /// Which gain flies: an index into scales().
+  std::size_t index() const { return static_cast<std::size_t>(index_); }
+  /// The filter designed for scales()[i] times the design's noise (its P, R and L).
+  const KalmanDesign& design(std::size_t i) const { return designs_[i]; }
   /// The steady innovation's standard deviations under the noise of the gain flown.
   const Eigen::VectorXd& innovation_sd() const { return sds_[static_cast<std::size_t>(index_)]; }
   /// Back to the design's gain.
   void reset() { index_ = 0; }
 
  private:
-  std::vector<Eigen::MatrixXd> gains_;
+  std::vector<KalmanDesign> designs_;
   std::vector<Eigen::VectorXd> sds_;
   int index_ = 0;
 };

@@ -75,8 +75,10 @@
 // residuals' deviation kReopenResidualStd; the force's block keeps its steady
 // covariance: opened too, the sustained 3 N's transient grew) into its steady gain.
 // Not while the start's schedule runs or within kStepHold periods of a step, not after
-// a softened or fallback period, and only where the noise monitor reads the design's
-// noise (up to kStepNoiseLevel; the re-opened gains are that noise's).
+// a softened or fallback period, and only where the noise monitor reads the noise the
+// gain flown is designed for (up to kStepNoiseLevel times it): the re-opened prior's
+// gains and deviations are computed per noise scale of the gain schedule
+// (filter_gain_schedule.hpp), up to kStepScaleMax times the design's noise.
 // No allocation in step(); it never throws.
 #pragma once
 
@@ -229,14 +231,20 @@ class TubeController {
   std::vector<int> gate_run_;
   // Step detection (above): the gains of the re-opened prior and their innovation
   // deviations, which schedule kf_step_ counts in, and the fading sums.
-  std::vector<Eigen::MatrixXd> L_reopen_;
-  std::vector<Eigen::VectorXd> reopen_sd_;
+  struct Reopening {
+    std::vector<Eigen::MatrixXd> gains;
+    std::vector<Eigen::VectorXd> sd;
+  };
+  std::vector<Reopening> reopen_;  ///< per noise scale of the gain schedule, the design's first
+  std::size_t reopen_at_ = 0;      ///< the one running (reopened_)
   bool reopened_ = false;
   Eigen::VectorXd step_sum_;
   std::vector<char> step_armed_;    ///< per row: may detect (re-armed once its sum is back below half the threshold)
   std::vector<char> step_pending_;  ///< per row: its sum passed the threshold last period
   static constexpr double kStepMemory = 0.7, kStepThreshold = 16.0, kStepConfirm = 4.0, kReopenResidualStd = 3e-3;
-  static constexpr double kStepNoiseLevel = 1.5;  ///< the monitor's level (of the design's noise) up to which steps are read
+  /// Steps are read where the monitor's level is within kStepNoiseLevel times the noise
+  /// scale flown, for the scales up to kStepScaleMax (each has its re-opened gains).
+  static constexpr double kStepNoiseLevel = 1.5, kStepScaleMax = 4.0;
   static constexpr std::size_t kStepHold = 50;
   Eigen::VectorXd gate_prev_innov_;  ///< per measured row: last period's innovation (before any gating)
   bool gate_have_prev_ = false;      ///< gate_prev_innov_ is last period's
