@@ -116,7 +116,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       monitor_ = std::make_unique<NoiseMonitor>(a.A, a.estimator_rows, a.estimator_noise, a.kinds, a.sample_time, s);
       schedule_ = std::make_unique<FilterGainSchedule>(kalman_model(a));
     }
-    if (kalman_ && opt_.step_detection) {
+    if (kalman_ && monitor_ && opt_.step_detection) {  // steps are read only with a monitor
       // Per noise scale of the gain schedule up to kStepScaleMax (the design's alone
       // without one): the residuals unknown; the force's block and its correlations kept
       // (0); the states as at the start (0.5 of their noise where the artifact has none).
