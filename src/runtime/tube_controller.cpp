@@ -81,8 +81,8 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       B_a_ = k.B_a;
       L_kf_ = a.estimator_L;
       if (a.filter_start_scheduled()) {
-        L_start_ = start_gains(k, start_covariance(k, a.D.cols(), a.estimator_start(0), a.estimator_start(1), a.estimator_start(2)),
-                               1e-3, 2000, &start_sd_);
+        start_ = shared_start_schedule(
+            k, start_covariance(k, a.D.cols(), a.estimator_start(0), a.estimator_start(1), a.estimator_start(2)));
       }
       E_c_ = a.estimator_E_c;
       rows_ = a.estimator_rows;
@@ -124,9 +124,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       const std::vector<double>& scales = FilterGainSchedule::scales();
       for (std::size_t i = 0; i < (schedule_ ? scales.size() : 1) && scales[i] <= kStepScaleMax; ++i) {
         const KalmanDesign& ks = schedule_ ? schedule_->design(i) : kalman_model(a);
-        Reopening r;
-        r.gains = start_gains(ks, start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state), 1e-3, 2000, &r.sd);
-        reopen_.push_back(std::move(r));
+        reopen_.push_back(shared_start_schedule(ks, start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state)));
       }
     }
   } else {
@@ -185,9 +183,15 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
   return finish(u_r, solver_ ? &solver_->solve(p) : nullptr, optimizer_in_time);
 }
 
+const StartSchedule& TubeController::opening() const {
+  static const StartSchedule none;
+  const std::shared_ptr<const StartSchedule>& s = reopened_ ? reopen_[reopen_at_] : start_;
+  return s ? *s : none;
+}
+
 const Eigen::VectorXd& TubeController::innovation_sd_now() const {
-  const std::vector<Eigen::VectorXd>& opening = reopened_ ? reopen_[reopen_at_].sd : start_sd_;
-  return kf_step_ < opening.size() ? opening[kf_step_] : schedule_ ? schedule_->innovation_sd() : innov_sd_;
+  const std::vector<Eigen::VectorXd>& sd = opening().innovation_sds;
+  return kf_step_ < sd.size() ? sd[kf_step_] : schedule_ ? schedule_->innovation_sd() : innov_sd_;
 }
 
 void TubeController::detect_step() {
@@ -217,7 +221,7 @@ void TubeController::detect_step() {
   const std::size_t at = schedule_ ? schedule_->index() : 0;
   const double scale = schedule_ ? schedule_->scale() : 1.0;
   const bool known_noise = monitor_ && at < reopen_.size() && monitor_->level() <= kStepNoiseLevel * scale;
-  const bool starting = !reopened_ && kf_step_ < L_start_.size();  // the start's own prior is open
+  const bool starting = !reopened_ && start_ && kf_step_ < start_->gains.size();  // the start's own prior is open
   if (!step || !known_noise || starting || prev_off_law_ || kf_step_ < kStepHold) return;
   reopened_ = true;
   reopen_at_ = at;
@@ -325,8 +329,8 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
     // the design's, or the one for the monitor's noise level.
     const Eigen::MatrixXd& steady = schedule_ ? schedule_->update(monitor_->level()) : L_kf_;
     out_.filter_noise_scale = schedule_ ? schedule_->scale() : 1.0;
-    const std::vector<Eigen::MatrixXd>& opening = reopened_ ? reopen_[reopen_at_].gains : L_start_;
-    const Eigen::MatrixXd& gain = kf_step_ < opening.size() ? opening[kf_step_] : steady;
+    const std::vector<Eigen::MatrixXd>& opening_gains = opening().gains;
+    const Eigen::MatrixXd& gain = kf_step_ < opening_gains.size() ? opening_gains[kf_step_] : steady;
     ++kf_step_;
     xi_.noalias() += gain * innov_;
     x_hat_.head(p) = xi_.head(p);

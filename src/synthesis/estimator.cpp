@@ -75,6 +75,25 @@ namespace {
 Eigen::VectorXd diagonal_sd(const Eigen::MatrixXd& S) { return S.diagonal().cwiseMax(0.0).cwiseSqrt(); }
 }  // namespace
 
+namespace {
+/// C's column of each row where C selects states (one 1 a row, distinct columns, zeros
+/// elsewhere: kalman_model()'s measurement map); empty otherwise.
+std::vector<Eigen::Index> selected_columns(const Eigen::MatrixXd& C) {
+  std::vector<Eigen::Index> cols;
+  std::vector<char> taken(static_cast<std::size_t>(C.cols()), 0);
+  for (Eigen::Index i = 0; i < C.rows(); ++i) {
+    Eigen::Index j = 0;
+    if (C.row(i).cwiseAbs().maxCoeff(&j) != 1.0 || C(i, j) != 1.0 || C.row(i).cwiseAbs().sum() != 1.0 ||
+        taken[static_cast<std::size_t>(j)] != 0) {
+      return {};
+    }
+    taken[static_cast<std::size_t>(j)] = 1;
+    cols.push_back(j);
+  }
+  return cols;
+}
+}  // namespace
+
 std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::MatrixXd& P0, double tolerance, int max_steps,
                                          std::vector<Eigen::VectorXd>* innovation_sds) {
   const Eigen::Index na = k.A_a.rows(), ny = k.C.rows();
@@ -83,24 +102,49 @@ std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::Mat
                                 " square and L " + std::to_string(na) + "x" + std::to_string(ny));
   }
   const double scale = k.L.cwiseAbs().maxCoeff();
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(na, na);
+  // A selecting C (the filters of this project) is applied by indexing: the same numbers
+  // as the products with its ones and zeros, without their cost. The buffers are reused
+  // across steps (a schedule runs to 2000 steps, four at each controller's construction).
+  const std::vector<Eigen::Index> sel = selected_columns(k.C);
+  const bool selects = !sel.empty();
   std::vector<Eigen::MatrixXd> gains;
   Eigen::MatrixXd P = 0.5 * (P0 + P0.transpose());
+  Eigen::MatrixXd S(ny, ny), CP(ny, na), M(na, na), MP(na, na), Pp(na, na), LR(na, ny), AP(na, na);
+  Eigen::LLT<Eigen::MatrixXd> llt(ny);
   if (innovation_sds != nullptr) innovation_sds->clear();
   for (int step = 0; step < max_steps; ++step) {
-    const Eigen::MatrixXd S = k.C * P * k.C.transpose() + k.R;
+    if (selects) {
+      CP = P(sel, Eigen::all);
+      S = P(sel, sel) + k.R;
+    } else {
+      CP.noalias() = k.C * P;
+      S.noalias() = CP * k.C.transpose();
+      S += k.R;
+    }
     if (innovation_sds != nullptr) innovation_sds->push_back(diagonal_sd(S));
-    const Eigen::LLT<Eigen::MatrixXd> llt(S);
+    llt.compute(S);
     if (llt.info() != Eigen::Success) throw std::runtime_error("Kalman filter start: C P C' + R is not positive definite at step " + std::to_string(step));
-    Eigen::MatrixXd L = llt.solve(k.C * P).transpose();
+    Eigen::MatrixXd L = llt.solve(CP).transpose();
     if (!L.allFinite()) throw std::runtime_error("Kalman filter start: a non-finite gain at step " + std::to_string(step));
     const bool done = (L - k.L).cwiseAbs().maxCoeff() <= tolerance * scale;
     gains.push_back(std::move(L));
     if (done) break;
     const Eigen::MatrixXd& Lk = gains.back();
-    const Eigen::MatrixXd M = I - Lk * k.C;
-    const Eigen::MatrixXd Pp = M * P * M.transpose() + Lk * k.R * Lk.transpose();
-    P = k.A_a * Pp * k.A_a.transpose() + k.Q;
+    // P+ = (I - L C) P (I - L C)' + L R L' (Joseph's form), P = A_a P+ A_a' + Q.
+    if (selects) {
+      M.setIdentity();
+      for (Eigen::Index j = 0; j < ny; ++j) M.col(sel[static_cast<std::size_t>(j)]) -= Lk.col(j);
+    } else {
+      M.noalias() = -Lk * k.C;
+      M.diagonal().array() += 1.0;
+    }
+    MP.noalias() = M * P;
+    Pp.noalias() = MP * M.transpose();
+    LR.noalias() = Lk * k.R;
+    Pp.noalias() += LR * Lk.transpose();
+    AP.noalias() = k.A_a * Pp;
+    P.noalias() = AP * k.A_a.transpose();
+    P += k.Q;
     P = 0.5 * (P + P.transpose());
   }
   return gains;

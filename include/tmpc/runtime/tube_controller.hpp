@@ -92,6 +92,7 @@
 #include "tmpc/runtime/noise_monitor.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
+#include "tmpc/synthesis/start_schedule.hpp"
 
 namespace tmpc {
 
@@ -182,6 +183,8 @@ class TubeController {
   long fallback_count() const { return fallbacks_; }
 
  private:
+  /// The schedule whose prior is open: the re-opened one, else the start (empty: none).
+  const StartSchedule& opening() const;
   /// The filter's innovation deviations this period: the start's or the re-opened
   /// prior's schedule, then the steady gain's.
   const Eigen::VectorXd& innovation_sd_now() const;
@@ -218,7 +221,7 @@ class TubeController {
   Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;
   // The filter's start (artifact.estimator_start): the time-varying gains of its first
   // periods after reset(), then L_kf_; kf_step_ counts the filter's updates since.
-  std::vector<Eigen::MatrixXd> L_start_;
+  std::shared_ptr<const StartSchedule> start_;  ///< the start's gains and deviations (null: none)
   std::unique_ptr<FilterGainSchedule> schedule_;  ///< switched observer, adaptive_filter_gain
   std::size_t kf_step_ = 0;
   std::vector<int> rows_;
@@ -226,16 +229,11 @@ class TubeController {
   // The innovation gate (above): the design gain's innovation deviations (the schedule
   // keeps its own), and per measured row the periods replaced in a row.
   Eigen::VectorXd innov_sd_;
-  std::vector<Eigen::VectorXd> start_sd_;  ///< per step of the start schedule
   std::vector<std::size_t> gated_rows_;  ///< indices into rows_ of the positions and angles
   std::vector<int> gate_run_;
   // Step detection (above): the gains of the re-opened prior and their innovation
   // deviations, which schedule kf_step_ counts in, and the fading sums.
-  struct Reopening {
-    std::vector<Eigen::MatrixXd> gains;
-    std::vector<Eigen::VectorXd> sd;
-  };
-  std::vector<Reopening> reopen_;  ///< per noise scale of the gain schedule, the design's first
+  std::vector<std::shared_ptr<const StartSchedule>> reopen_;  ///< per noise scale of the gain schedule, the design's first
   std::size_t reopen_at_ = 0;      ///< the one running (reopened_)
   bool reopened_ = false;
   Eigen::VectorXd step_sum_;
