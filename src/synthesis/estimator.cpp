@@ -83,8 +83,8 @@ std::vector<Eigen::Index> selected_columns(const Eigen::MatrixXd& C) {
   std::vector<char> taken(static_cast<std::size_t>(C.cols()), 0);
   for (Eigen::Index i = 0; i < C.rows(); ++i) {
     Eigen::Index j = 0;
-    if (C.row(i).cwiseAbs().maxCoeff(&j) != 1.0 || C(i, j) != 1.0 || C.row(i).cwiseAbs().sum() != 1.0 ||
-        taken[static_cast<std::size_t>(j)] != 0) {
+    C.row(i).cwiseAbs().maxCoeff(&j);
+    if (C(i, j) != 1.0 || C.row(i).cwiseAbs().sum() != 1.0 || taken[static_cast<std::size_t>(j)] != 0) {
       return {};
     }
     taken[static_cast<std::size_t>(j)] = 1;
