@@ -3,6 +3,7 @@
 #include "tmpc/synthesis/estimator.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -171,13 +172,30 @@ Eigen::MatrixXd start_covariance(const KalmanDesign& k, Eigen::Index nd, double 
   }
   auto replace = [&](Eigen::Index first, Eigen::Index count, double std_dev) {
     if (std_dev <= 0.0 || count == 0) return;  // kept: the steady block
-    P0.middleRows(first, count).setZero();
-    P0.middleCols(first, count).setZero();
-    P0.block(first, first, count, count).diagonal().setConstant(std_dev * std_dev);
+    std::vector<Eigen::Index> states(static_cast<std::size_t>(count));
+    for (Eigen::Index i = 0; i < count; ++i) states[static_cast<std::size_t>(i)] = first + i;
+    open_states(P0, states, std_dev);
   };
   replace(p, nd, force_std);
   replace(p + nd, nc, residual_std);
   return P0;
+}
+
+void open_states(Eigen::MatrixXd& P, const std::vector<Eigen::Index>& states, double std_dev) {
+  if (!(std_dev > 0.0) || !std::isfinite(std_dev)) {
+    throw std::invalid_argument("open_states: the standard deviation must be finite and > 0, not " + std::to_string(std_dev));
+  }
+  for (const Eigen::Index i : states) {
+    if (i < 0 || i >= P.rows() || P.rows() != P.cols()) {
+      throw std::invalid_argument("open_states: state " + std::to_string(i) + " is outside the " +
+                                  std::to_string(P.rows()) + " x " + std::to_string(P.cols()) + " covariance");
+    }
+  }
+  for (const Eigen::Index i : states) {
+    P.row(i).setZero();
+    P.col(i).setZero();
+  }
+  for (const Eigen::Index i : states) P(i, i) = std_dev * std_dev;
 }
 
 namespace {

@@ -5,6 +5,7 @@
 // tube's sets by simulating the closed loop under bounded noise (sampled invariance),
 // its Gaussian form's standard deviations by simulating it under white Gaussian noise;
 // the filter's start against the batch estimate of the trajectory.
+#include <cmath>
 #include <random>
 
 #include <Eigen/Cholesky>
@@ -231,6 +232,32 @@ TEST(KalmanStart, ThePriorHasTheForceUnknownAndTheStateWithinItsNoise) {
   EXPECT_EQ(start_covariance(k, 1, 0.0, 0.0, 0.0), k.P);
   EXPECT_THROW(start_covariance(k, 1, -1.0, 0.0, 0.5), std::invalid_argument);
   EXPECT_THROW(start_covariance(k, 3, 1.0, 0.0, 0.5), std::invalid_argument);
+}
+
+// open_states: the chosen states lose every correlation and take the given variance;
+// the rest of P is untouched (entry by entry against a dense P with no zero entry).
+TEST(KalmanStart, OpenStatesUnknownsTheChosenStatesAndKeepsTheRest) {
+  Eigen::MatrixXd P(4, 4);
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) P(i, j) = 1.0 / (1.0 + i + j) + (i == j ? 1.0 : 0.0);  // a Hilbert matrix + I
+  }
+  Eigen::MatrixXd opened = P;
+  open_states(opened, {1, 3}, 0.5);
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      const bool chosen = i == 1 || i == 3 || j == 1 || j == 3;
+      EXPECT_EQ(opened(i, j), !chosen ? P(i, j) : i == j ? 0.25 : 0.0) << i << ", " << j;
+    }
+  }
+  EXPECT_THROW(open_states(opened, {4}, 0.5), std::invalid_argument);
+  EXPECT_THROW(open_states(opened, {-1}, 0.5), std::invalid_argument);
+  EXPECT_THROW(open_states(opened, {0}, 0.0), std::invalid_argument);
+  EXPECT_THROW(open_states(opened, {0}, std::nan("")), std::invalid_argument);
+  // start_covariance opens its blocks the same way.
+  const KalmanDesign k = start_test_filter();
+  Eigen::MatrixXd by_hand = start_covariance(k, 1, 0.0, 0.0, 0.5);
+  open_states(by_hand, {2}, 2.0);
+  EXPECT_EQ(by_hand, start_covariance(k, 1, 2.0, 0.0, 0.5));
 }
 
 // Oracle: the filtered estimate of a linear Gaussian model is the last block of the

@@ -116,6 +116,12 @@ std::vector<Eigen::MatrixXd> start_gains(const KalmanDesign& k, const Eigen::Mat
 Eigen::MatrixXd start_covariance(const KalmanDesign& k, Eigen::Index nd, double force_std, double residual_std,
                                  double state_noise);
 
+/// P with the augmented states `states` made unknown: their rows and columns zeroed (no
+/// correlation left) and std_dev^2 on their diagonal (a prior re-opened in part: the
+/// vertical force of a step, tube_controller.hpp). Throws std::invalid_argument for a
+/// state outside P or std_dev <= 0.
+void open_states(Eigen::MatrixXd& P, const std::vector<Eigen::Index>& states, double std_dev);
+
 /// The output-feedback tube's sets (see above), at noise scale 1 and their parts.
 struct OutputFeedbackTube {
   Zonotope E_W, E_V;          ///< estimation error sets (augmented), of w_a and of v
