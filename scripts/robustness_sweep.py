@@ -3,7 +3,7 @@
 
 Usage: scripts/robustness_sweep.py --controller out/tiltrotor.tmpc [--tmpc build/tmpc]
                                    [--out out/sweep] [--count 80] [--seed 7] [--duration 60]
-                                   [--jobs 2] [--args "--no-step-detection"]
+                                   [--jobs 2] [--args=--no-step-detection]
 
 Draws --count combinations (without repeats, in a seeded order) of
   track:       the thesis helix; a faster, lower helix at yaw 0.3 rad; the figure eight;

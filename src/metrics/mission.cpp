@@ -55,6 +55,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   to.adaptive_filter_gain = !o.fixed_filter_gain;
   to.innovation_gate = !o.no_innovation_gate;
   to.step_detection = !o.no_step_detection;
+  to.step_reopens_lift = o.step_reopens_lift;
   std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
   if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
   TubeController ctrl(a, std::move(solver), to);

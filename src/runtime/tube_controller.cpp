@@ -118,13 +118,21 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
     }
     if (kalman_ && monitor_ && opt_.step_detection) {  // steps are read only with a monitor
       // Per noise scale of the gain schedule up to kStepScaleMax (the design's alone
-      // without one): the residuals unknown; the force's block and its correlations kept
-      // (0); the states as at the start (0.5 of their noise where the artifact has none).
+      // without one): the residuals unknown; the force's block kept, or with
+      // step_reopens_lift the components whose target moves no state (header) unknown;
+      // the states as at the start (0.5 of their noise where the artifact has none).
       const double state = a.estimator_start(2) > 0.0 ? a.estimator_start(2) : 0.5;
+      for (Eigen::Index j = 0; opt_.step_reopens_lift && j < Tx_.cols(); ++j) {
+        if (kReopenForceStd * Tx_.col(j).cwiseAbs().maxCoeff() <= kReopenTargetShift) reopened_forces_.push_back(j);
+      }
       const std::vector<double>& scales = FilterGainSchedule::scales();
       for (std::size_t i = 0; i < (schedule_ ? scales.size() : 1) && scales[i] <= kStepScaleMax; ++i) {
         const KalmanDesign& ks = schedule_ ? schedule_->design(i) : kalman_model(a);
-        reopen_.push_back(shared_start_schedule(ks, start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state)));
+        Eigen::MatrixXd P0 = start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state);
+        std::vector<Eigen::Index> forces = reopened_forces_;
+        for (Eigen::Index& j : forces) j += ks.p;  // xi = (x, d, c)
+        if (!forces.empty()) open_states(P0, forces, kReopenForceStd);
+        reopen_.push_back(shared_start_schedule(ks, P0));
       }
     }
   } else {

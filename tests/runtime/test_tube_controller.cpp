@@ -480,6 +480,80 @@ TEST(TubeController, AStepInTheDisturbancesReopensTheFilter) {
   }
 }
 
+// A thrust loss's lost lift (tube_controller.hpp, step_reopens_lift): of the force on
+// the load, a step then re-opens the vertical component, whose steady state the vehicle
+// holds by thrust alone (the horizontal ones move the target's rod tilt); off by
+// default, nothing of the force is re-opened. On the exact linear model with 1.5 times
+// the design's noise, the right rotor drops to 85 % of what is commanded at period 400
+// (its torque reads the step: a lift loss alone grows the vertical speed's innovation
+// too slowly to be told from the noise): the lost lift, 0.15 f_r, is a vertical force
+// the filter reads (oracle: the commanded thrust; the load hangs straight below, so the
+// lift lost is the vertical force on the load that holds the same steady state). The
+// step is detected within 10 periods; with the lift re-opened the force estimate is
+// within 20 % of the lost lift within 25 periods (0.3 s), in under half the time the
+// default re-opening takes, and the vertical speed is held closer than by either the
+// default re-opening or the steady gain alone.
+TEST(TubeController, AStepCanReopenTheVerticalForceAndReadALostLiftAtOnce) {
+  for (const ControllerArtifact* a : {&test::noisy_artifact(), &test::quick_artifact()}) {
+    TubeControllerOptions o = tube_law_options(*a, "offset-free", 0.0, "kalman");
+    EXPECT_TRUE(TubeController(*a, make_solver("active-set", a->qp(true)), o).step_reopened_forces().empty());
+    o.step_reopens_lift = true;
+    TubeController ctrl(*a, make_solver("active-set", a->qp(true)), o);
+    EXPECT_EQ(ctrl.step_reopened_forces(), (std::vector<Eigen::Index>{2})) << "the vertical force only";
+  }
+  const ControllerArtifact& a = test::noisy_artifact();
+  const auto dz = static_cast<Eigen::Index>(
+      std::find(a.state_names.begin(), a.state_names.end(), "d_z") - a.state_names.begin());
+  ASSERT_LT(dz, a.n);
+  const int fault = 400, end = 700;
+  struct Flight {
+    int detected = -1, read = -1;
+    double lift = 0.0, speed_peak = 0.0;
+  };
+  auto fly = [&](bool detection, bool lift) {
+    TubeControllerOptions o = tube_law_options(a, "offset-free", 0.0, "kalman");
+    o.step_detection = detection;
+    o.step_reopens_lift = lift;
+    TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
+    std::mt19937_64 rng(17);
+    std::normal_distribution<double> normal;
+    Flight f;
+    std::vector<double> d_z;
+    fly_exact(
+        a, ctrl, Eigen::Vector3d::Zero(), end,
+        [&](int, Eigen::VectorXd& meas) {
+          for (int i = 0; i < a.measured; ++i) meas(i) += 1.5 * design_noise(a, i) * normal(rng);
+        },
+        [&](int k, Eigen::VectorXd& u) {
+          if (k < fault) return;
+          f.lift = 0.15 * u(0);  // the last period's, N
+          u(0) *= 0.85;
+        },
+        [&](int k, const ControlStep& s, const Eigen::VectorXd& x) {
+          if (k >= fault && f.detected < 0 && s.step_detected) f.detected = k - fault;
+          d_z.push_back(s.d_hat(2));
+          if (k >= fault) f.speed_peak = std::max(f.speed_peak, std::abs(x(dz)));
+        });
+    for (int k = fault; k < end && f.read < 0; ++k) {
+      if (std::abs(d_z[static_cast<std::size_t>(k)] + f.lift) <= 0.2 * f.lift) f.read = k - fault;
+    }
+    return f;
+  };
+  const Flight lift = fly(true, true), kept = fly(true, false), steady = fly(false, false);
+  std::printf("15 %% of a rotor's lift lost (%.2f N): step read after %d periods; the force within 20 %% after %d periods "
+              "with the lift re-opened, %d with the force kept, %d with the steady gain; vertical speed up to %.3f, %.3f, "
+              "%.3f m/s\n",
+              lift.lift, lift.detected, lift.read, kept.read, steady.read, lift.speed_peak, kept.speed_peak,
+              steady.speed_peak);
+  ASSERT_GE(lift.detected, 0) << "no step read";
+  EXPECT_LE(lift.detected, 10);
+  EXPECT_EQ(kept.detected, lift.detected);
+  ASSERT_GE(lift.read, 0);
+  EXPECT_LE(lift.read, 25);
+  EXPECT_TRUE(kept.read < 0 || kept.read > 2 * lift.read);
+  EXPECT_LT(lift.speed_peak, 0.8 * std::min(kept.speed_peak, steady.speed_peak));
+}
+
 // The switched observer's monitor skips a residual whose input came from the LQR
 // fallback or the softened QP (tube_controller.hpp): past what the hard law holds the
 // inputs jump and the model's mismatch reads like noise. On the exact linear model:

@@ -72,8 +72,17 @@
 // the sum), is a step, once per row until its sum is back below half the threshold.
 // The filter then runs, from its current estimate, the gains of a prior with the
 // angular-acceleration residuals unknown (start_gains from start_covariance, the
-// residuals' deviation kReopenResidualStd; the force's block keeps its steady
-// covariance: opened too, the sustained 3 N's transient grew) into its steady gain.
+// residuals' deviation kReopenResidualStd) into its steady gain; the force's block
+// keeps its steady covariance (re-opened whole, a horizontal force's estimate moves
+// the target's rod tilt at once, and the sustained 3 N's transient grew).
+// step_reopens_lift (off by default): the force components whose steady state (the
+// offset-free target x_s = Tx d) moves no state by more than kReopenTargetShift of its
+// bound for a force of kReopenForceStd are re-opened too, to that deviation (the
+// tiltrotor: the vertical force, which the vehicle holds by thrust alone). It reads a
+// rotor's lost lift in a fraction of the time (a 10 % rotor fault with noisy sensors,
+// the 80-flight sweep: the vertical speed past its bound in one fault flight instead
+// of nine), but the vertical transient of a large horizontal force's swing is read as
+// lift too (a sustained 4 N on the load is then lost; README "Re-opening the lift").
 // Not while the start's schedule runs or within kStepHold periods of a step, not after
 // a softened or fallback period, and only where the noise monitor reads the noise the
 // gain flown is designed for (up to kStepNoiseLevel times it): the re-opened prior's
@@ -114,6 +123,10 @@ struct TubeControllerOptions {
   /// the filter's innovations, re-opens the filter's disturbance covariance (below);
   /// false: the steady gain reads a step at its own pace.
   bool step_detection = true;
+  /// step_detection: a step re-opens the vertical force on the load too (below), which
+  /// reads a rotor's lost lift at once but chases the vertical transient of a large
+  /// horizontal force's swing; false: the force's block keeps its steady covariance.
+  bool step_reopens_lift = false;
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
@@ -181,6 +194,9 @@ class TubeController {
   int parameters() const { return static_cast<int>(theta_.size()); }
   long clipped_count() const { return clipped_; }
   long fallback_count() const { return fallbacks_; }
+  /// The force components (columns of the artifact's D) a step re-opens (above); empty
+  /// without step detection or step_reopens_lift.
+  const std::vector<Eigen::Index>& step_reopened_forces() const { return reopened_forces_; }
 
  private:
   /// The schedule whose prior is open: the re-opened one, else the start (empty: none).
@@ -239,7 +255,11 @@ class TubeController {
   Eigen::VectorXd step_sum_;
   std::vector<char> step_armed_;    ///< per row: may detect (re-armed once its sum is back below half the threshold)
   std::vector<char> step_pending_;  ///< per row: its sum passed the threshold last period
+  std::vector<Eigen::Index> reopened_forces_;  ///< force components a step re-opens
   static constexpr double kStepMemory = 0.7, kStepThreshold = 16.0, kStepConfirm = 4.0, kReopenResidualStd = 3e-3;
+  /// A step re-opens a force component whose target moves no state by more than
+  /// kReopenTargetShift of its bound for kReopenForceStd (N), to that deviation.
+  static constexpr double kReopenForceStd = 1.0, kReopenTargetShift = 0.05;
   /// Steps are read where the monitor's level is within kStepNoiseLevel times the noise
   /// scale flown, for the scales up to kStepScaleMax (each has its re-opened gains).
   static constexpr double kStepNoiseLevel = 1.5, kStepScaleMax = 4.0;
