@@ -552,6 +552,13 @@ TEST(TubeController, AStepCanReopenTheVerticalForceAndReadALostLiftAtOnce) {
   EXPECT_LE(lift.read, 25);
   EXPECT_TRUE(kept.read < 0 || kept.read > 2 * lift.read);
   EXPECT_LT(lift.speed_peak, 0.8 * std::min(kept.speed_peak, steady.speed_peak));
+  // The README's numbers: 14, 55 and 45 periods; 0.46, 1.32 and 1.05 m/s.
+  EXPECT_NEAR(lift.read, 14, 3);
+  EXPECT_NEAR(kept.read, 55, 6);
+  EXPECT_NEAR(steady.read, 45, 5);
+  EXPECT_NEAR(lift.speed_peak, 0.464, 0.05 * 0.464);
+  EXPECT_NEAR(kept.speed_peak, 1.317, 0.05 * 1.317);
+  EXPECT_NEAR(steady.speed_peak, 1.051, 0.05 * 1.051);
 }
 
 // The switched observer's monitor skips a residual whose input came from the LQR
