@@ -122,15 +122,16 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       // step_reopens_lift the components whose target moves no state (header) unknown;
       // the states as at the start (0.5 of their noise where the artifact has none).
       const double state = a.estimator_start(2) > 0.0 ? a.estimator_start(2) : 0.5;
+      std::vector<Eigen::Index> forces;  // their places in xi = (x, d, c)
       for (Eigen::Index j = 0; opt_.step_reopens_lift && j < Tx_.cols(); ++j) {
-        if (kReopenForceStd * Tx_.col(j).cwiseAbs().maxCoeff() <= kReopenTargetShift) reopened_forces_.push_back(j);
+        if (kReopenForceStd * Tx_.col(j).cwiseAbs().maxCoeff() > kReopenTargetShift) continue;
+        reopened_forces_.push_back(j);
+        forces.push_back(a.measured + j);
       }
       const std::vector<double>& scales = FilterGainSchedule::scales();
       for (std::size_t i = 0; i < (schedule_ ? scales.size() : 1) && scales[i] <= kStepScaleMax; ++i) {
         const KalmanDesign& ks = schedule_ ? schedule_->design(i) : kalman_model(a);
         Eigen::MatrixXd P0 = start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state);
-        std::vector<Eigen::Index> forces = reopened_forces_;
-        for (Eigen::Index& j : forces) j += ks.p;  // xi = (x, d, c)
         if (!forces.empty()) open_states(P0, forces, kReopenForceStd);
         reopen_.push_back(shared_start_schedule(ks, P0));
       }
