@@ -195,6 +195,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     mm.noise_level_max = std::max(mm.noise_level_max, s.noise_level);
     mm.gated_samples += s.gated_rows;
     if (s.step_detected) ++mm.step_detections;
+    if (s.step_reopened_lift) ++mm.step_lift_reopenings;
     mm.filter_louder_periods += s.filtered && s.filter_noise_scale > 1.0;
     if (s.filtered) mm.filter_noise_scale_max = std::max(mm.filter_noise_scale_max, s.filter_noise_scale);
     if (s.softened) {
@@ -223,7 +224,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
           << s.clipped << "," << s.in_tube << "," << a.X.contains(a.N_x.cwiseProduct(judged)) << "," << s.tube_ratio
           << "," << s.tube_worst << "," << s.softened << "," << s.slack_max << "," << s.filtered << "," << s.noise_level;
       for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, s.d_hat.size()); ++i) csv << "," << s.d_hat(i);
-      csv << "," << s.gated_rows << "," << s.step_detected << "\n";
+      csv << "," << s.gated_rows << "," << (s.step_detected ? (s.step_reopened_lift ? 2 : 1) : 0) << "\n";
     }
   }
   if (err.join().active()) {
@@ -286,7 +287,8 @@ std::string metrics_json(const MissionMetrics& m) {
   j["observer"] = {{"filtered_periods", m.filtered_periods}, {"switches", m.observer_switches}, {"noise_level_max", m.noise_level_max},
                    {"filter_louder_periods", m.filter_louder_periods}, {"filter_noise_scale_max", m.filter_noise_scale_max},
                    {"gated_samples", m.gated_samples},
-                   {"step_detections", m.step_detections}};
+                   {"step_detections", m.step_detections},
+                   {"step_lift_reopenings", m.step_lift_reopenings}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;

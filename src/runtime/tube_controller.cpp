@@ -128,12 +128,33 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
         reopened_forces_.push_back(j);
         forces.push_back(a.measured + j);
       }
+      // The step's classification (header): the columns of a step in every force and the
+      // residuals, and in the re-opened forces and the residuals.
+      const Eigen::Index nd = a.D.cols(), nx = A_a_.rows();
+      std::vector<Eigen::Index> all, lift = forces;
+      for (Eigen::Index j = 0; j < nd; ++j) all.push_back(a.measured + j);
+      for (Eigen::Index j = a.measured + nd; j < nx; ++j) {
+        all.push_back(j);
+        lift.push_back(j);
+      }
+      const KalmanDesign design = kalman_model(a);
       const std::vector<double>& scales = FilterGainSchedule::scales();
       for (std::size_t i = 0; i < (schedule_ ? scales.size() : 1) && scales[i] <= kStepScaleMax; ++i) {
-        const KalmanDesign& ks = schedule_ ? schedule_->design(i) : kalman_model(a);
-        Eigen::MatrixXd P0 = start_covariance(ks, a.D.cols(), 0.0, kReopenResidualStd, state);
-        if (!forces.empty()) open_states(P0, forces, kReopenForceStd);
+        const KalmanDesign& ks = schedule_ ? schedule_->design(i) : design;
+        const Eigen::MatrixXd P0 = start_covariance(ks, nd, 0.0, kReopenResidualStd, state);
         reopen_.push_back(shared_start_schedule(ks, P0));
+        if (forces.empty()) continue;
+        Eigen::MatrixXd P0_lift = P0;
+        open_states(P0_lift, forces, kReopenForceStd);
+        reopen_lift_.push_back(shared_start_schedule(ks, P0_lift));
+        const Eigen::VectorXd sd = innovation_sd(ks);
+        sig_all_.emplace_back(ks.A_a, ks.C, ks.L, sd, all, kStepWindow);
+        sig_lift_.emplace_back(ks.A_a, ks.C, ks.L, sd, lift, kStepWindow);
+      }
+      if (!forces.empty()) {
+        step_window_ = InnovationWindow(static_cast<Eigen::Index>(rows_.size()), kStepWindow);
+        step_z_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
+        lift_threshold_ = chi_square_quantile(static_cast<int>(all.size() - lift.size()), kLiftConfidence);
       }
     }
   } else {
@@ -173,7 +194,8 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   if (schedule_) schedule_->reset();
   std::fill(gate_run_.begin(), gate_run_.end(), 0);
   gate_have_prev_ = false;
-  reopened_ = false;
+  reopened_ = reopened_lift_ = false;
+  step_window_.clear();
   if (step_sum_.size() > 0) step_sum_.setZero();
   std::fill(step_armed_.begin(), step_armed_.end(), 1);
   std::fill(step_pending_.begin(), step_pending_.end(), 0);
@@ -194,7 +216,8 @@ const ControlStep& TubeController::step(const Eigen::VectorXd& x_tilde, const Ei
 
 const StartSchedule& TubeController::opening() const {
   static const StartSchedule none;
-  const std::shared_ptr<const StartSchedule>& s = reopened_ ? reopen_[reopen_at_] : start_;
+  const std::shared_ptr<const StartSchedule>& s =
+      !reopened_ ? start_ : reopened_lift_ ? reopen_lift_[reopen_at_] : reopen_[reopen_at_];
   return s ? *s : none;
 }
 
@@ -206,8 +229,10 @@ const Eigen::VectorXd& TubeController::innovation_sd_now() const {
 void TubeController::detect_step() {
   const Eigen::VectorXd& sd = innovation_sd_now();
   bool step = false;
+  const bool classify = !sig_all_.empty();
   for (Eigen::Index j = 0; j < innov_.size(); ++j) {
     const double z = innov_(j) / sd(j);
+    if (classify) step_z_(j) = z;
     step_sum_(j) = kStepMemory * step_sum_(j) + z;
     const double s = std::abs(step_sum_(j));
     auto& armed = step_armed_[static_cast<std::size_t>(j)];
@@ -231,11 +256,20 @@ void TubeController::detect_step() {
   const double scale = schedule_ ? schedule_->scale() : 1.0;
   const bool known_noise = monitor_ && at < reopen_.size() && monitor_->level() <= kStepNoiseLevel * scale;
   const bool starting = !reopened_ && start_ && kf_step_ < start_->gains.size();  // the start's own prior is open
+  if (classify) step_window_.push(step_z_);
   if (!step || !known_noise || starting || prev_off_law_ || kf_step_ < kStepHold) return;
   reopened_ = true;
   reopen_at_ = at;
   kf_step_ = 0;  // this period's update takes the re-opened prior's first gain
   out_.step_detected = true;
+  reopened_lift_ = false;
+  if (classify) {
+    // The lift only where every force does not explain the window significantly better.
+    const double glr = sig_all_[at].fit(step_window_).statistic - sig_lift_[at].fit(step_window_).statistic;
+    out_.step_horizontal_glr = glr;
+    reopened_lift_ = glr <= lift_threshold_;
+    out_.step_reopened_lift = reopened_lift_;
+  }
 }
 
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, bool consecutive) {
@@ -243,7 +277,8 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   y_ = x_n_;
   // The filter's prediction of this measurement, and its innovation gate (header).
   out_.gated_rows = 0;
-  out_.step_detected = false;
+  out_.step_detected = out_.step_reopened_lift = false;
+  out_.step_horizontal_glr = 0.0;
   const bool predicted = kalman_ && have_prev_ && consecutive && x_n_.allFinite();
   if (predicted) {
     xi_pred_.noalias() = A_a_ * xi_;

@@ -3,6 +3,7 @@
 // writer threads have their own tests or may allocate once at start), switched on by
 // a scripted plant transport (scripted_plant.hpp) after 10 periods and off after 100 more.
 #include <atomic>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,39 @@ TEST(ControllerLoopAllocation, NoAllocationPerPeriodSwitchedObserver) {
   EXPECT_TRUE(was_residual);
   EXPECT_TRUE(back_on_filter);
   EXPECT_EQ(g_allocations.load(), 0) << "the switched observer allocated in 290 periods";
+}
+
+// A step read and classified (tube_controller.hpp, step detection with the lift's
+// GLR, step_signature.hpp) allocates nothing either: the filter alone on the exact
+// linear model with the design's white noise, the right rotor at 85 % from period 300.
+TEST(ControllerLoopAllocation, NoAllocationPerPeriodAtAClassifiedStep) {
+  if (!test::kCountsAllocations) GTEST_SKIP() << "allocations are not counted under the sanitizer";
+  const ControllerArtifact& a = test::quick_artifact();
+  TubeControllerOptions o = tube_law_options(a, "offset-free", 0.0, "kalman");
+  o.step_reopens_lift = true;
+  TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n), u(a.m), y(a.n);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal;
+  ctrl.reset(x);
+  int steps = 0;
+  g_allocations = 0;
+  for (int k = 0; k < 500; ++k) {
+    meas = x;
+    for (std::size_t j = 0; j < a.estimator_rows.size(); ++j) {  // the design's noise (normalized)
+      meas(a.estimator_rows[j]) += a.estimator_noise(static_cast<Eigen::Index>(j)) * normal(rng);
+    }
+    y = meas.cwiseQuotient(a.N_x);
+    t_counting = k >= 10;
+    const ControlStep& s = ctrl.step(y, a.u_eq);
+    t_counting = false;
+    steps += s.step_detected;
+    u = s.u;
+    if (k >= 300) u(0) *= 0.85;
+    x = a.A * x + a.B * (u - a.u_eq).cwiseProduct(a.N_u);
+  }
+  EXPECT_GE(steps, 1) << "no step read";
+  EXPECT_EQ(g_allocations.load(), 0) << "the filter allocated in 490 periods with a step read";
 }
 
 }  // namespace

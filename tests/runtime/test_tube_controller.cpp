@@ -23,12 +23,13 @@ double design_noise(const ControllerArtifact& a, int i) {
 }
 
 /// A flight of `ctrl` on the exact linear model (normalized states: 1 is a bound) under
-/// the constant force d: each period the true state, edited by sense(k, meas) (noise,
-/// offsets), is measured; the plant applies the controller's input as act(k, u) edits it
-/// (a fault); see(k, step, x) gets the period's decision and the true state after it.
+/// the constant force d from period d_from on: each period the true state, edited by
+/// sense(k, meas) (noise, offsets), is measured; the plant applies the controller's
+/// input as act(k, u) edits it (a fault); see(k, step, x) gets the period's decision and
+/// the true state after it.
 template <class Sense, class Act, class See>
 void fly_exact(const ControllerArtifact& a, TubeController& ctrl, const Eigen::Vector3d& d, int periods, Sense sense,
-               Act act, See see) {
+               Act act, See see, int d_from = 0) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(a.n), meas(a.n), u;
   ctrl.reset(x);
   for (int k = 0; k < periods; ++k) {
@@ -37,7 +38,8 @@ void fly_exact(const ControllerArtifact& a, TubeController& ctrl, const Eigen::V
     const ControlStep& s = ctrl.step(meas.cwiseQuotient(a.N_x), a.u_eq);
     u = s.u;
     act(k, u);
-    x = a.A * x + a.B * (u - a.u_eq).cwiseProduct(a.N_u) + a.D * d;
+    x = a.A * x + a.B * (u - a.u_eq).cwiseProduct(a.N_u);
+    if (k >= d_from) x += a.D * d;
     see(k, s, x);
   }
 }
@@ -508,6 +510,7 @@ TEST(TubeController, AStepCanReopenTheVerticalForceAndReadALostLiftAtOnce) {
   const int fault = 400, end = 700;
   struct Flight {
     int detected = -1, read = -1;
+    bool lift_reopened = false;
     double lift = 0.0, speed_peak = 0.0;
   };
   auto fly = [&](bool detection, bool lift) {
@@ -530,7 +533,10 @@ TEST(TubeController, AStepCanReopenTheVerticalForceAndReadALostLiftAtOnce) {
           u(0) *= 0.85;
         },
         [&](int k, const ControlStep& s, const Eigen::VectorXd& x) {
-          if (k >= fault && f.detected < 0 && s.step_detected) f.detected = k - fault;
+          if (k >= fault && f.detected < 0 && s.step_detected) {
+            f.detected = k - fault;
+            f.lift_reopened = s.step_reopened_lift;
+          }
           d_z.push_back(s.d_hat(2));
           if (k >= fault) f.speed_peak = std::max(f.speed_peak, std::abs(x(dz)));
         });
@@ -547,6 +553,8 @@ TEST(TubeController, AStepCanReopenTheVerticalForceAndReadALostLiftAtOnce) {
               steady.speed_peak);
   ASSERT_GE(lift.detected, 0) << "no step read";
   EXPECT_LE(lift.detected, 10);
+  EXPECT_TRUE(lift.lift_reopened) << "the thrust loss classified as a horizontal force";
+  EXPECT_FALSE(kept.lift_reopened);
   EXPECT_EQ(kept.detected, lift.detected);
   ASSERT_GE(lift.read, 0);
   EXPECT_LE(lift.read, 25);
@@ -559,6 +567,66 @@ TEST(TubeController, AStepCanReopenTheVerticalForceAndReadALostLiftAtOnce) {
   EXPECT_NEAR(lift.speed_peak, 0.464, 0.05 * 0.464);
   EXPECT_NEAR(kept.speed_peak, 1.317, 0.05 * 1.317);
   EXPECT_NEAR(steady.speed_peak, 1.051, 0.05 * 1.051);
+}
+
+// The step's classification (tube_controller.hpp, step_reopens_lift; the GLR of
+// step_signature.hpp): on the exact linear model with 1.5 times the design's noise, a
+// horizontal force stepping onto the load (2 and 3 N, along x and y, from period 400)
+// is read as a step and classified as horizontal, so the lift keeps its steady
+// covariance (its estimate stays near zero, the true vertical force), while the thrust
+// losses of either rotor (10 and 15 %, the lift test above) re-open it.
+TEST(TubeController, AHorizontalForceStepKeepsTheLiftClosed) {
+  const ControllerArtifact& a = test::noisy_artifact();
+  const int onset = 400, end = 520;
+  struct Read {
+    int detected = -1;
+    bool lift = false;
+    double glr = 0.0, d_z_peak = 0.0;
+  };
+  auto fly = [&](const Eigen::Vector3d& d, int rotor, double factor, unsigned seed) {
+    TubeControllerOptions o = tube_law_options(a, "offset-free", 0.0, "kalman");
+    o.step_reopens_lift = true;
+    TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal;
+    Read r;
+    fly_exact(
+        a, ctrl, d, end,
+        [&](int, Eigen::VectorXd& meas) {
+          for (int i = 0; i < a.measured; ++i) meas(i) += 1.5 * design_noise(a, i) * normal(rng);
+        },
+        [&](int k, Eigen::VectorXd& u) {
+          if (k >= onset && rotor >= 0) u(rotor) *= factor;
+        },
+        [&](int k, const ControlStep& s, const Eigen::VectorXd&) {
+          if (k >= onset && r.detected < 0 && s.step_detected) {
+            r.detected = k - onset;
+            r.lift = s.step_reopened_lift;
+            r.glr = s.step_horizontal_glr;
+          }
+          if (k >= onset) r.d_z_peak = std::max(r.d_z_peak, std::abs(s.d_hat(2)));
+        },
+        onset);
+    return r;
+  };
+  for (const Eigen::Vector3d& d : {Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(0, 4, 0), Eigen::Vector3d(-4, 0, 0), Eigen::Vector3d(2.5, 2.5, 0)}) {
+    for (unsigned seed : {5u, 6u}) {
+      const Read r = fly(d, -1, 1.0, seed);
+      std::printf("force (%.0f, %.0f) N, seed %u: read after %d periods, GLR difference %.1f, |d_z| up to %.3f N\n",
+                  d(0), d(1), seed, r.detected, r.glr, r.d_z_peak);
+      EXPECT_GE(r.detected, 0) << d.transpose() << ": not read";
+      EXPECT_FALSE(r.lift) << d.transpose() << ": the lift re-opened (GLR difference " << r.glr << ")";
+      EXPECT_LT(r.d_z_peak, 0.3) << d.transpose();
+    }
+  }
+  for (int rotor : {0, 1}) {
+    for (double factor : {0.85, 0.9}) {
+      const Read r = fly(Eigen::Vector3d::Zero(), rotor, factor, 7);
+      std::printf("rotor %d at %.0f %%: read after %d periods, GLR difference %.1f\n", rotor, 100 * factor, r.detected, r.glr);
+      ASSERT_GE(r.detected, 0) << "rotor " << rotor << " at " << factor << ": not read";
+      EXPECT_TRUE(r.lift) << "rotor " << rotor << " at " << factor << ": GLR difference " << r.glr;
+    }
+  }
 }
 
 // The switched observer's monitor skips a residual whose input came from the LQR

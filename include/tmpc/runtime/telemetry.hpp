@@ -40,7 +40,8 @@ struct TelemetryRecord {
   std::uint8_t filtered = 0;          ///< the Kalman filter's estimate flew (switched observer: else the measurement)
   double noise_level = 0.0;           ///< the noise monitor's level (fraction of the design's)
   std::uint8_t gated = 0;             ///< measured rows the filter's innovation gate replaced (glitches)
-  std::uint8_t step = 0;              ///< a disturbance step was read in the filter's innovations (its gains re-opened)
+  std::uint8_t step = 0;              ///< a disturbance step was read in the filter's innovations (its gains re-opened):
+                                      ///< 1, or 2 where it re-opened the lift too (step_reopens_lift)
 };
 
 /// The columns of a telemetry file: the artifact's state and input names.

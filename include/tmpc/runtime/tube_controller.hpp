@@ -82,7 +82,14 @@
 // rotor's lost lift in a fraction of the time (a 10 % rotor fault with noisy sensors,
 // the 80-flight sweep: the vertical speed past its bound in one fault flight instead
 // of nine), but the vertical transient of a large horizontal force's swing is read as
-// lift too (a sustained 4 N on the load is then lost; README "Re-opening the lift").
+// lift too (a sustained 4 N on the load was then lost; README "Re-opening the lift"), so
+// the step is classified first: a generalized likelihood ratio over its innovation
+// signature (step_signature.hpp; the kStepWindow newest innovations) tests "a step in
+// the re-opened forces and the residuals" against "a step in every force and the
+// residuals"; the lift is re-opened only when the second does not explain the window
+// significantly better (the GLRs' difference within the chi-square quantile at
+// kLiftConfidence for the forces left out): a horizontal force's step keeps the lift's
+// steady covariance.
 // Not while the start's schedule runs or within kStepHold periods of a step, not after
 // a softened or fallback period, and only where the noise monitor reads the noise the
 // gain flown is designed for (up to kStepNoiseLevel times it): the re-opened prior's
@@ -99,6 +106,7 @@
 
 #include "tmpc/runtime/filter_gain_schedule.hpp"
 #include "tmpc/runtime/noise_monitor.hpp"
+#include "tmpc/runtime/step_signature.hpp"
 #include "tmpc/solvers/solver.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 #include "tmpc/synthesis/start_schedule.hpp"
@@ -162,6 +170,8 @@ struct ControlStep {
   double noise_level = 0.0;  ///< the noise monitor's level (fraction of the design's; 0 without one)
   int gated_rows = 0;  ///< measured rows the filter's innovation gate replaced by its prediction this period
   bool step_detected = false;  ///< step_detection: a disturbance step was detected; the filter's gains re-opened
+  bool step_reopened_lift = false;  ///< that step re-opened the lift too (step_reopens_lift, classified as not horizontal)
+  double step_horizontal_glr = 0.0;  ///< that step's GLR difference, every force against the lift's (step_reopens_lift)
   double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
                                     ///< (during the filter's start schedule, the one it will fly after)
 };
@@ -256,6 +266,17 @@ class TubeController {
   std::vector<char> step_armed_;    ///< per row: may detect (re-armed once its sum is back below half the threshold)
   std::vector<char> step_pending_;  ///< per row: its sum passed the threshold last period
   std::vector<Eigen::Index> reopened_forces_;  ///< force components a step re-opens
+  // step_reopens_lift: the lift's re-opened priors (reopen_ keeps the force), the step
+  // signatures per noise scale (every force with the residuals; the lift's with them),
+  // the window of whitened innovations they are fitted to, and the test's threshold.
+  std::vector<std::shared_ptr<const StartSchedule>> reopen_lift_;
+  bool reopened_lift_ = false;  ///< the prior running re-opened the lift
+  std::vector<StepSignature> sig_all_, sig_lift_;
+  InnovationWindow step_window_;
+  Eigen::VectorXd step_z_;
+  double lift_threshold_ = 0.0;
+  static constexpr int kStepWindow = 20;
+  static constexpr double kLiftConfidence = 0.999;
   static constexpr double kStepMemory = 0.7, kStepThreshold = 16.0, kStepConfirm = 4.0, kReopenResidualStd = 3e-3;
   /// A step re-opens a force component whose target moves no state by more than
   /// kReopenTargetShift of its bound for kReopenForceStd (N), to that deviation.
