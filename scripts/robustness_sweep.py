@@ -16,7 +16,7 @@ Draws --count combinations (without repeats, in a seeded order) of
 writes each as a scenario file into OUT/scenarios, flies it with `tmpc simulate` (the
 arguments of --args appended) and prints one row per flight: violations, the worst state
 over its bound, the servo-rate peak, fallbacks, softened periods, RMSE, steps read by the
-filter, aborted; then the totals. The seeds of the gusts and the noise follow the row.
+filter (in brackets those that re-opened the lift), aborted; then the totals. The seeds of the gusts and the noise follow the row.
 Exit status 0 when every flight ran (aborted flights are reported, not errors).
 """
 import argparse
@@ -106,7 +106,7 @@ def main():
         results = list(pool.map(lambda nf: fly(a.tmpc, a.controller, nf[1], os.path.join(a.out, nf[0]), extra),
                                 flights))
     print("| flight | violations | worst state (x bound) | servo-rate peak | fallbacks | softened | "
-          "RMSE x, y, z (m) | steps read | aborted |")
+          "RMSE x, y, z (m) | steps read (lift re-opened) | aborted |")
     print("|---|---|---|---|---|---|---|---|---|")
     totals = {"violations": 0, "fallbacks": 0, "softened": 0, "aborted": 0, "clean": 0}
     for (name, _), m in zip(flights, results):
@@ -115,7 +115,8 @@ def main():
         r = m["rmse"]
         print(f"| {name} | {m['state_constraint_violations']} | {worst['worst_state'] or '-'} "
               f"{worst['max_ratio']:.2f} | {servo:.2f} | {m['fallback_periods']} | {m['softened']['periods']} | "
-              f"{r['x']:.3f}, {r['y']:.3f}, {r['z']:.3f} | {m['observer']['step_detections']} | "
+              f"{r['x']:.3f}, {r['y']:.3f}, {r['z']:.3f} | {m['observer']['step_detections']} "
+              f"({m['observer'].get('step_lift_reopenings', 0)}) | "
               f"{'yes' if m['diverged'] else 'no'} |")
         totals["violations"] += m["state_constraint_violations"]
         totals["fallbacks"] += m["fallback_periods"]

@@ -30,7 +30,7 @@ struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
   bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false, fixed_filter_gain = false,
-       no_innovation_gate = false, no_step_detection = false, step_reopens_lift = false;
+       no_innovation_gate = false, no_step_detection = false, step_keeps_lift = false;
   std::string tube_law;
   double observer_gain = 0.0;
   std::string observer;
@@ -161,7 +161,7 @@ void run_simulate(const SimOptions& o) {
   m.fixed_filter_gain = o.fixed_filter_gain;
   m.no_innovation_gate = o.no_innovation_gate;
   m.no_step_detection = o.no_step_detection;
-  m.step_reopens_lift = o.step_reopens_lift;
+  m.step_reopens_lift = !o.step_keeps_lift;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
@@ -227,9 +227,10 @@ void register_simulate(CLI::App& app) {
   sub->add_flag("--no-step-detection", o->no_step_detection,
                 "the Kalman filter keeps its gains at a disturbance step (default: a step detected in its innovations, a "
                 "rotor's thrust loss, re-opens its disturbance covariance; runtime/tube_controller.hpp)");
-  sub->add_flag("--step-reopens-lift", o->step_reopens_lift,
-                "a disturbance step re-opens the vertical force on the load too: a rotor's lost lift is read at once, but "
-                "a large horizontal force's swing is read as lift (default: off; runtime/tube_controller.hpp)")
+  sub->add_flag("--step-keeps-lift", o->step_keeps_lift,
+                "a disturbance step keeps the vertical force's steady covariance (default: a step the filter's innovations "
+                "do not classify as a horizontal force, a rotor's thrust loss, re-opens the lift too; "
+                "runtime/tube_controller.hpp)")
       ->excludes("--no-step-detection");
   sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
       ->check(CLI::Range(1e-6, 1.0));

@@ -29,7 +29,7 @@ struct MissionOptions {
   std::string observer;           ///< "" (the artifact's), "residual", "kalman" or "switched"
   bool no_innovation_gate = false; ///< the Kalman filter: take every measurement (no glitch gate)
   bool no_step_detection = false;  ///< the Kalman filter keeps its gains at a disturbance step
-  bool step_reopens_lift = false;  ///< a step re-opens the vertical force too (TubeControllerOptions)
+  bool step_reopens_lift = true;   ///< a step not classified as horizontal re-opens the vertical force too (TubeControllerOptions)
   bool fixed_filter_gain = false; ///< the Kalman filter (kalman or switched): the design's gain at every noise level
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"

@@ -75,21 +75,21 @@
 // residuals' deviation kReopenResidualStd) into its steady gain; the force's block
 // keeps its steady covariance (re-opened whole, a horizontal force's estimate moves
 // the target's rod tilt at once, and the sustained 3 N's transient grew).
-// step_reopens_lift (off by default): the force components whose steady state (the
+// step_reopens_lift (on by default): the force components whose steady state (the
 // offset-free target x_s = Tx d) moves no state by more than kReopenTargetShift of its
 // bound for a force of kReopenForceStd are re-opened too, to that deviation (the
-// tiltrotor: the vertical force, which the vehicle holds by thrust alone). It reads a
-// rotor's lost lift in a fraction of the time (a 10 % rotor fault with noisy sensors,
-// the 80-flight sweep: the vertical speed past its bound in one fault flight instead
-// of nine), but the vertical transient of a large horizontal force's swing is read as
-// lift too (a sustained 4 N on the load was then lost; README "Re-opening the lift"), so
-// the step is classified first: a generalized likelihood ratio over its innovation
-// signature (step_signature.hpp; the kStepWindow newest innovations) tests "a step in
-// the re-opened forces and the residuals" against "a step in every force and the
-// residuals"; the lift is re-opened only when the second does not explain the window
-// significantly better (the GLRs' difference within the chi-square quantile at
-// kLiftConfidence for the forces left out): a horizontal force's step keeps the lift's
-// steady covariance.
+// tiltrotor: the vertical force, which the vehicle holds by thrust alone). The state
+// block's reset drops its correlations with the force, so with the force kept a rotor's
+// lost lift was read slower than by the steady gain; re-opened, in a fraction of the
+// time (the 80-flight sweep: the vertical speed past its bound in one fault flight
+// instead of nine). A large horizontal force's swing has a vertical transient that a
+// re-opened lift reads as lift (a sustained 4 N on the load was then lost; README
+// "Re-opening the lift"), so the step is classified first: a generalized likelihood
+// ratio over its innovation signature (step_signature.hpp; the kStepWindow newest
+// innovations, whitened) tests "a step in the re-opened forces and the residuals"
+// against "a step in every force and the residuals"; the lift is re-opened only when
+// the second does not explain the window significantly better (the GLRs' difference
+// within the chi-square quantile at kLiftConfidence for the forces left out).
 // Not while the start's schedule runs or within kStepHold periods of a step, not after
 // a softened or fallback period, and only where the noise monitor reads the noise the
 // gain flown is designed for (up to kStepNoiseLevel times it): the re-opened prior's
@@ -131,10 +131,10 @@ struct TubeControllerOptions {
   /// the filter's innovations, re-opens the filter's disturbance covariance (below);
   /// false: the steady gain reads a step at its own pace.
   bool step_detection = true;
-  /// step_detection: a step re-opens the vertical force on the load too (below), which
-  /// reads a rotor's lost lift at once but chases the vertical transient of a large
-  /// horizontal force's swing; false: the force's block keeps its steady covariance.
-  bool step_reopens_lift = false;
+  /// step_detection: a step not classified as a horizontal force re-opens the vertical
+  /// force on the load too (below), which reads a rotor's lost lift at once; false: the
+  /// force's block keeps its steady covariance.
+  bool step_reopens_lift = true;
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
