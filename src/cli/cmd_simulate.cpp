@@ -1,7 +1,7 @@
 // tmpc simulate --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--plant el|mujoco]
 //   [--duration S] [--no-disturbance] [--run K | --monte-carlo K] [--seed S] [--reinit] [--no-join]
 //   [--tube-law mayne|offset-free] [--observer-gain B] [--observer residual|kalman|switched] [--fixed-filter-gain]
-//   [--no-innovation-gate] [--no-step-detection] [--step-reopens-lift]
+//   [--no-innovation-gate] [--no-step-detection] [--step-keeps-lift]
 //   [--yaw-into-force] --out DIR
 // A scenario flown in-process on a virtual clock: telemetry.csv and metrics.json. The
 // plant is the artifact's vehicle (or --config's: a plant other than the one designed
