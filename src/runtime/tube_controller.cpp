@@ -367,7 +367,11 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       for (int r : rows_) xi_pred_(r) = x_n_(r);
     }
     for (std::size_t j = 0; j < rows_.size(); ++j) innov_(static_cast<Eigen::Index>(j)) = x_n_(rows_[j]) - xi_pred_(rows_[j]);
-    if (opt_.step_detection && have_prev_ && consecutive) detect_step();
+    if (opt_.step_detection && have_prev_ && consecutive) {
+      detect_step();
+    } else {
+      step_window_.clear();  // a gap: the window's innovations are no longer consecutive
+    }
     xi_ = xi_pred_;
     // The start's schedule first (its prior, the design's noise), then the steady gain:
     // the design's, or the one for the monitor's noise level.

@@ -66,6 +66,11 @@ elif check == "unknown-plant":
     p = run("openloop", "--config", config, "--plant", "gazebo", expect_rc=None)
     need(0 < p.returncode < 128, f"exit code {p.returncode}: an error, not a crash, was expected")
     need("gazebo" in p.stderr, f"the message does not name the bad plant: {p.stderr}")
+    # Contradicting step options are refused before anything is loaded, naming both.
+    p = run("simulate", "--controller", "none.tmpc", "--no-step-detection", "--step-keeps-lift", expect_rc=None)
+    need(0 < p.returncode < 128, f"exit code {p.returncode}: an error, not a crash, was expected")
+    need("--no-step-detection excludes --step-keeps-lift" in p.stdout + p.stderr,
+         f"the message does not name the two options: {p.stdout}{p.stderr}")
 elif check == "crosscheck":
     j = json.loads(run("crosscheck", "--config", config, "--states", "1000", "--json").stdout)
     fd = j["forward_dynamics"]["max_relative_error"]

@@ -26,7 +26,8 @@
 
 namespace tmpc {
 
-/// The last W whitened innovations (a ring; no allocation in push()).
+/// The last W whitened innovations of consecutive periods (a ring; no allocation in
+/// push(); clear() at a gap, which breaks the signatures' alignment in time).
 class InnovationWindow {
  public:
   InnovationWindow() = default;
