@@ -1,9 +1,12 @@
 // The real-time processes:
 //   tmpc controller --controller FILE.tmpc --port DEV [--scenario FILE] [--baud] [--solver] [--rt-priority]
-//                   [--cpu] [--duration] [--telemetry FILE] [--no-join]  the on-board program
+//                   [--cpu] [--duration] [--telemetry FILE] [--no-join] [--yaw-into-force]
+//                   [estimator flags: --observer, --observer-gain, --fixed-filter-gain, --no-innovation-gate,
+//                    --no-step-detection, --step-keeps-lift]                 the on-board program
 //   tmpc plant --config FILE --port DEV [--scenario FILE] [--baud] [--duration] [--no-disturbance] [--run K]
 //                                                         the scenario's plant over serial
 //   tmpc hil --controller FILE.tmpc [--scenario FILE] [--config FILE] [--solver] [--duration] [--out DIR] [--no-join]
+//            [--yaw-into-force] [the controller's estimator flags]
 //                                                         both, over a pseudo-terminal pair
 #include <atomic>
 #include <chrono>
@@ -17,6 +20,7 @@
 
 #include "commands.hpp"
 #include "data_files.hpp"
+#include "estimator_flags.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/model/config.hpp"
 #include "tmpc/runtime/controller_loop.hpp"
@@ -85,6 +89,7 @@ struct RtCli {
   long seed = -1;
   double duration = 0.0;
   bool no_disturbance = false, no_join = false, yaw_into_force = false;
+  EstimatorChoice estimator;
 };
 
 Scenario scenario_of(const RtCli& o) {
@@ -101,6 +106,7 @@ ControllerLoopOptions controller_options(const RtCli& o, const ControllerArtifac
   c.trajectory = sc.trajectory;
   c.solver = resolve_solver(o.solver, a, o.tube_law, c.deadline_fraction, "tmpc controller", &c.solver_note);
   c.tube_law = o.tube_law;
+  c.estimator = o.estimator;
   c.reference_join = !o.no_join;
   c.yaw_into_force = o.yaw_into_force;
   c.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
@@ -181,13 +187,14 @@ void run_hil(const RtCli& o) {
     throw;
   }
   plant.join();
-  std::printf("hil over %s, scenario %s, %.1f s, solver %s%s\n", pty.slave_path.c_str(), sc.name.c_str(), duration,
-              c.solver.c_str(), sc.disturbances.empty() ? ", no disturbance" : "");
+  std::printf("hil over %s, scenario %s, %.1f s, solver %s, observer %s%s\n", pty.slave_path.c_str(), sc.name.c_str(),
+              duration, c.solver.c_str(), cs.observer.c_str(), sc.disturbances.empty() ? ", no disturbance" : "");
   print_plant(ps);
   print_controller(cs);
   nlohmann::json j;
   for (std::size_t i = 0; i < ps.rmse.size(); ++i) j["rmse"][a.state_names[i]] = ps.rmse[i];
   j["solver"] = {{"name", c.solver}, {"why", c.solver_note}};
+  j["estimator"] = cs.observer;
   j["periods"] = cs.periods;
   // Every period without the optimizer's answer in time: late, still busy with an
   // abandoned solve, or slept through entirely.
@@ -233,6 +240,7 @@ void register_realtime(CLI::App& app) {
   sc->add_option("--telemetry", c->telemetry, "telemetry CSV to write");
   sc->add_flag("--no-join", c->no_join, "a start off the reference straight to it, without the reference join");
   sc->add_flag("--yaw-into-force", c->yaw_into_force, kYawIntoForceHelp);
+  add_estimator_flags(sc, c->estimator);
   common(sc, *c);
   sc->callback([c]() { run_controller(*c); });
 
@@ -264,6 +272,7 @@ void register_realtime(CLI::App& app) {
   sh->add_option("--out", h->out, "output directory (metrics.json, telemetry.csv)");
   sh->add_flag("--no-join", h->no_join, "a start off the reference straight to it, without the reference join");
   sh->add_flag("--yaw-into-force", h->yaw_into_force, kYawIntoForceHelp);
+  add_estimator_flags(sh, h->estimator);
   common(sh, *h);
   sh->callback([h]() { run_hil(*h); });
 }

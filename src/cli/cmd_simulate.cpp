@@ -14,6 +14,7 @@
 
 #include "commands.hpp"
 #include "data_files.hpp"
+#include "estimator_flags.hpp"
 #include "tmpc/explicit/explicit_law.hpp"
 #include "tmpc/metrics/campaign.hpp"
 #include "tmpc/metrics/mission.hpp"
@@ -29,11 +30,9 @@ namespace {
 struct SimOptions {
   std::string controller, config, scenario = kDefaultScenario, out = "out", solver = "auto", plant, explicit_law;
   double duration = 0.0;
-  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false, fixed_filter_gain = false,
-       no_innovation_gate = false, no_step_detection = false, step_keeps_lift = false;
+  bool no_disturbance = false, reinit = false, no_join = false, yaw_into_force = false;
   std::string tube_law;
-  double observer_gain = 0.0;
-  std::string observer;
+  EstimatorChoice estimator;
   int run = -1, monte_carlo = 0;
   long seed = -1;
 };
@@ -156,12 +155,7 @@ void run_simulate(const SimOptions& o) {
   m.reference_join = !o.no_join;
   m.yaw_into_force = o.yaw_into_force;
   m.tube_law = o.tube_law;
-  m.observer_gain = o.observer_gain;
-  m.observer = o.observer;
-  m.fixed_filter_gain = o.fixed_filter_gain;
-  m.no_innovation_gate = o.no_innovation_gate;
-  m.no_step_detection = o.no_step_detection;
-  m.step_reopens_lift = !o.step_keeps_lift;
+  m.estimator = o.estimator;
   m.telemetry_csv = o.out + "/telemetry.csv";
   m.explicit_law = o.explicit_law.empty() ? explicit_path_for(o.controller) : o.explicit_law;
   m.seed = o.seed;
@@ -216,24 +210,7 @@ void register_simulate(CLI::App& app) {
   sub->add_flag("--no-join", o->no_join, "fly a start off the reference without the reference join (straight to the mission's reference)");
   sub->add_option("--tube-law", o->tube_law, "tube law, overriding the artifact's")
       ->check(CLI::IsMember({"mayne", "offset-free"}));
-  sub->add_option("--observer", o->observer, "offset-free observer: residual, kalman or switched (default: the artifact's)")
-      ->check(CLI::IsMember({"residual", "kalman", "switched"}));
-  sub->add_flag("--fixed-filter-gain", o->fixed_filter_gain,
-                "the Kalman filter's design gain at every noise level (default: the gain for the noise monitor's level, "
-                "runtime/filter_gain_schedule.hpp)");
-  sub->add_flag("--no-innovation-gate", o->no_innovation_gate,
-                "the Kalman filter takes every measurement (default: a position or angle whose innovation exceeds 20 of its "
-                "standard deviations is a glitch, replaced by the filter's prediction; runtime/tube_controller.hpp)");
-  sub->add_flag("--no-step-detection", o->no_step_detection,
-                "the Kalman filter keeps its gains at a disturbance step (default: a step detected in its innovations, a "
-                "rotor's thrust loss, re-opens its disturbance covariance; runtime/tube_controller.hpp)");
-  sub->add_flag("--step-keeps-lift", o->step_keeps_lift,
-                "a disturbance step keeps the vertical force's steady covariance (default: a step the filter's innovations "
-                "do not classify as a horizontal force, a rotor's thrust loss, re-opens the lift too; "
-                "runtime/tube_controller.hpp)")
-      ->excludes("--no-step-detection");
-  sub->add_option("--observer-gain", o->observer_gain, "offset-free observer gain beta in (0, 1] (default: the artifact's)")
-      ->check(CLI::Range(1e-6, 1.0));
+  add_estimator_flags(sub, o->estimator);
   sub->add_option("--out", o->out, "output directory");
   sub->callback([o]() { run_simulate(*o); });
 }

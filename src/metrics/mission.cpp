@@ -50,12 +50,8 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
   SolverOptions so;
   so.eps_abs = so.eps_rel = a.solver.admm_epsilon;
   so.eta = a.solver.admm_eta;
-  TubeControllerOptions to = tube_law_options(a, o.tube_law, o.observer_gain, o.observer);
+  TubeControllerOptions to = flight_law_options(a, o.tube_law, o.estimator);
   to.reinitialize_nominal = o.reinitialize_nominal;
-  to.adaptive_filter_gain = !o.fixed_filter_gain;
-  to.innovation_gate = !o.no_innovation_gate;
-  to.step_detection = !o.no_step_detection;
-  to.step_reopens_lift = o.step_reopens_lift;
   std::unique_ptr<QpSolver> solver = make_controller_solver(o.solver, a, so, o.explicit_law, to.offset_free);
   if (o.record_qps != nullptr) solver = std::make_unique<RecordingSolver>(std::move(solver), o.record_qps);
   TubeController ctrl(a, std::move(solver), to);

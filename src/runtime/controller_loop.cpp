@@ -36,7 +36,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   // A solve never outlives its period's deadline: past it the answer is useless, and
   // still running it would make the next period busy (the fallback twice).
   so.time_budget_us = o.deadline_fraction * T_wall * 1e6;
-  const TubeControllerOptions law = tube_law_options(a, o.tube_law);
+  const TubeControllerOptions law = flight_law_options(a, o.tube_law, o.estimator);
   TubeController ctrl(a, nullptr, law);
   std::unique_ptr<AsyncOptimizer> own_optimizer;
   Optimizer* optimizer = seams.optimizer;
@@ -86,6 +86,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   ControllerLoopStats st;
   st.watchdog_periods = watchdog;
   st.session = o.session != 0 ? o.session : io::draw_session_id();
+  st.observer = law.offset_free ? law.observer : "none";
   st.realtime = apply_realtime(o.realtime);
   std::unique_ptr<PeriodicClock> own_clock;
   LoopClock* clock = seams.clock;

@@ -67,10 +67,13 @@ elif check == "unknown-plant":
     need(0 < p.returncode < 128, f"exit code {p.returncode}: an error, not a crash, was expected")
     need("gazebo" in p.stderr, f"the message does not name the bad plant: {p.stderr}")
     # Contradicting step options are refused before anything is loaded, naming both.
-    p = run("simulate", "--controller", "none.tmpc", "--no-step-detection", "--step-keeps-lift", expect_rc=None)
-    need(0 < p.returncode < 128, f"exit code {p.returncode}: an error, not a crash, was expected")
-    need("--no-step-detection excludes --step-keeps-lift" in p.stdout + p.stderr,
-         f"the message does not name the two options: {p.stdout}{p.stderr}")
+    # The same on the commands that fly the serial loop (they take simulate's estimator flags).
+    for cmd in (["simulate", "--controller", "none.tmpc"], ["hil", "--controller", config],
+                ["controller", "--controller", config, "--port", "/dev/null"]):
+        p = run(*cmd, "--no-step-detection", "--step-keeps-lift", expect_rc=None)
+        need(0 < p.returncode < 128, f"{cmd[0]}: exit code {p.returncode}: an error, not a crash, was expected")
+        need("--no-step-detection excludes --step-keeps-lift" in p.stdout + p.stderr,
+             f"{cmd[0]}: the message does not name the two options: {p.stdout}{p.stderr}")
 elif check == "crosscheck":
     j = json.loads(run("crosscheck", "--config", config, "--states", "1000", "--json").stdout)
     fd = j["forward_dynamics"]["max_relative_error"]

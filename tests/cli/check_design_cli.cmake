@@ -57,10 +57,12 @@ if(rc EQUAL 0 OR NOT err MATCHES "not a tmpc metrics.json")
   message(FATAL_ERROR "compare accepted a design report: ${err}")
 endif()
 # Plant and controller in real time over a pseudo-terminal pair.
+# The estimator chosen on the command line is the one the loop flies (simulate's flags).
 execute_process(COMMAND ${TMPC} hil --config ${dir}/quick.yaml --controller ${dir}/c.tmpc --duration 2 --out ${dir}/hil
+                --observer residual
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT EXISTS ${dir}/hil/metrics.json OR NOT out MATCHES "records, 0 dropped"
-   OR NOT out MATCHES "0 rejected")
+   OR NOT out MATCHES "0 rejected" OR NOT out MATCHES "observer residual")
   message(FATAL_ERROR "hil failed: ${out}${err}")
 endif()
 execute_process(COMMAND ${TMPC} controller --controller ${dir}/c.tmpc --port /dev/null --duration 1

@@ -28,7 +28,7 @@ inline MissionMetrics fly(const char* name, const ControllerArtifact& a = artifa
 /// the shipped design before its switched observer), printed like fly().
 inline MissionMetrics fly_residual_observer(const char* name) {
   MissionOptions o;
-  o.observer = "residual";
+  o.estimator.observer = "residual";
   const MissionMetrics m = run_mission(artifact(), shipped_scenario(name), o);
   std::printf("%s, residual observer alone: RMSE %.3g %.3g %.3g, violations %ld (worst %s %.2f), fallbacks %ld%s\n", name,
               m.rmse[0], m.rmse[1], m.rmse[2], m.state_constraint_violations, m.violation_worst_state.c_str(),

@@ -42,7 +42,7 @@ TEST(Scenarios, AStartOffsetIsWhereThePlantStarts) {
   // from the vehicle: no exit at all, as with the residual observer alone.
   EXPECT_EQ(m.filtered_periods, 7);
   EXPECT_EQ(m.tube_exits, 0);
-  o.observer = "residual";
+  o.estimator.observer = "residual";
   EXPECT_EQ(run_mission(artifact(), s, o).tube_exits, 0);
 }
 

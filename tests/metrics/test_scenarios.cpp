@@ -261,7 +261,7 @@ TEST(Scenarios, TheSwitchedObserverFliesCleanAndNoisySensorsWithOneController) {
   EXPECT_EQ(quiet.state_constraint_violations, 0);
   EXPECT_EQ(quiet.filtered_periods, quiet.periods);
   MissionOptions residual;
-  residual.observer = "residual";  // the same design with the residual observer alone
+  residual.estimator.observer = "residual";  // the same design with the residual observer alone
   const MissionMetrics raw = run_mission(a, tenth, residual);
   std::printf("residual observer, a tenth of the noise: violations %ld (worst %s %.2f)\n", raw.state_constraint_violations,
               raw.violation_worst_state.c_str(), raw.violation_max_ratio);
@@ -313,7 +313,7 @@ TEST(Scenarios, ASensorBiasShiftsTheTrueErrorByTheBias) {
   EXPECT_EQ(r.violation_worst_state, "d_alpha_r");
   EXPECT_NEAR(r.violation_max_ratio, 1.066, 0.01);
   MissionOptions start;  // the residual observer alone; the period at 0.06 s: 5 periods without it, 6 with it
-  start.observer = "residual";
+  start.estimator.observer = "residual";
   start.duration = 0.06;
   EXPECT_EQ(run_mission(test::artifact(), biased, start).state_constraint_violations, 0);
   start.duration = 0.072;
@@ -386,7 +386,7 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   }
   expect_rmse(loud, 0.0459, 0.0344, 0.0146);
   MissionOptions fixed;
-  fixed.fixed_filter_gain = true;
+  fixed.estimator.fixed_filter_gain = true;
   const MissionMetrics loud_fixed = run_mission(a, test::shipped_scenario("noisy_sensors_x2"), fixed);
   EXPECT_FALSE(loud_fixed.diverged);
   EXPECT_EQ(loud_fixed.fallback_periods, 0);
@@ -503,7 +503,7 @@ TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
   EXPECT_TRUE(shipped.diverged);
   EXPECT_NEAR(static_cast<double>(shipped.periods), 896.0, 25.0);  // 10.75 s
   MissionOptions steady;
-  steady.no_step_detection = true;
+  steady.estimator.no_step_detection = true;
   const MissionMetrics lost = run_mission(test::noisy_artifact(), test::shipped_scenario("sustained_force_4n"), steady);
   EXPECT_TRUE(lost.diverged);
   EXPECT_NEAR(static_cast<double>(lost.periods), 902.0, 25.0);
@@ -518,7 +518,7 @@ TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
   hard.soft_constraints = false;
   hard.soft_penalty = 0.0;
   MissionOptions residual;
-  residual.observer = "residual";
+  residual.estimator.observer = "residual";
   const MissionMetrics lqr = run_mission(hard, test::shipped_scenario("sustained_force_4n"), residual);
   std::printf("soft constraints off, residual observer: diverged %d, fallbacks %ld\n", lqr.diverged, lqr.fallback_periods);
   EXPECT_FALSE(lqr.diverged);
@@ -569,7 +569,7 @@ TEST(Scenarios, NoiseOnOneSensorOrBeyondTheDesignsIsReadAndFlown) {
       EXPECT_EQ(m.violation_worst_state, "d_alpha_r");
       EXPECT_EQ(m.filter_noise_scale_max, 4.0);  // the filter's gain for the noise it reads
       MissionOptions residual;
-      residual.observer = "residual";
+      residual.estimator.observer = "residual";
       const MissionMetrics raw = run_mission(test::artifact(), sc, residual);
       std::printf("  residual observer alone: violations %ld, diverged %d after %ld periods\n",
                   raw.state_constraint_violations, raw.diverged, raw.periods);
@@ -802,7 +802,7 @@ TEST(Scenarios, SensorGlitchesAreReplacedByTheFiltersPrediction) {
     return peak;
   };
   MissionOptions open;
-  open.no_innovation_gate = true;
+  open.estimator.no_innovation_gate = true;
   const Scenario noisy = test::shipped_scenario("glitches");
   Scenario clean = noisy;
   clean.noise.white = {0.0, 0.0, 0.0, 0.0};
@@ -867,8 +867,8 @@ TEST(Scenarios, ActuatorFaultsTheControllerIsNotToldOfAreFlown) {
   EXPECT_EQ(noisy.faults.size(), test::shipped_scenario("actuator_faults").faults.size());
   const MissionMetrics detected = run_mission(test::artifact(), noisy, MissionOptions{});
   MissionOptions steady, keep;
-  steady.no_step_detection = true;
-  keep.step_reopens_lift = false;
+  steady.estimator.no_step_detection = true;
+  keep.estimator.step_reopens_lift = false;
   const MissionMetrics slow = run_mission(test::artifact(), noisy, steady);
   const MissionMetrics kept = run_mission(test::artifact(), noisy, keep);
   std::printf("actuator_faults, noisy sensors: %ld violations (%ld steps detected, %ld re-opening the lift; worst %.2f), "
@@ -908,7 +908,7 @@ TEST(Scenarios, ReopeningTheLiftAtAStepHoldsTheVerticalSpeedThroughARotorFault) 
   const MissionMetrics clean = run_mission(test::artifact(), s, MissionOptions{});
   s.faults = {ActuatorFault{ActuatorFault::Kind::Efficiency, 1, 0.9, 0.0, 25.0}};
   MissionOptions keep;
-  keep.step_reopens_lift = false;
+  keep.estimator.step_reopens_lift = false;
   const MissionMetrics kept = run_mission(test::artifact(), s, keep);
   const MissionMetrics opened = run_mission(test::artifact(), s, MissionOptions{});
   const auto dz = static_cast<std::size_t>(std::find(kept.box_names.begin(), kept.box_names.end(), "d_z") -

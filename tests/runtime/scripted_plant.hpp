@@ -120,20 +120,29 @@ class SimulatedPlantLink : public io::Transport {
         for (int k = 0; k < plant_->inputs(); ++k) u_(k) = decoder_.control().u[static_cast<std::size_t>(k)];
       }
     }
-    plant_->advance(u_, T_);
+    if (act_) {
+      u_act_ = u_;
+      act_(period_, u_act_);  // a fault between the link and the actuators
+      plant_->advance(u_act_, T_);
+    } else {
+      plant_->advance(u_, T_);
+    }
     ++period_;
     delivered_ = false;
     return true;
   }
   const Plant& plant() const { return *plant_; }
   int periods() const { return period_; }
+  /// The inputs the plant applies, edited from those received (an actuator fault).
+  void set_actuator_edit(std::function<void(int period, Eigen::VectorXd& u)> act) { act_ = std::move(act); }
 
  private:
   std::unique_ptr<Plant> plant_;
   double T_;
   Edit edit_;
   io::Decoder decoder_;
-  Eigen::VectorXd u_;
+  Eigen::VectorXd u_, u_act_;
+  std::function<void(int, Eigen::VectorXd&)> act_;
   int period_ = 0;
   bool delivered_ = false;
 };

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tmpc/runtime/estimator_choice.hpp"
 #include "tmpc/sim/scenario.hpp"
 #include "tmpc/synthesis/artifact.hpp"
 
@@ -25,12 +26,7 @@ struct MissionOptions {
   bool reinitialize_nominal = false;
   bool reference_join = true;     ///< join the reference from a start off it (runtime/reference_join.hpp)
   std::string tube_law;           ///< "" (the artifact's), "mayne" or "offset-free"
-  double observer_gain = 0.0;     ///< > 0: overrides the artifact's
-  std::string observer;           ///< "" (the artifact's), "residual", "kalman" or "switched"
-  bool no_innovation_gate = false; ///< the Kalman filter: take every measurement (no glitch gate)
-  bool no_step_detection = false;  ///< the Kalman filter keeps its gains at a disturbance step
-  bool step_reopens_lift = true;   ///< a step not classified as horizontal re-opens the vertical force too (TubeControllerOptions)
-  bool fixed_filter_gain = false; ///< the Kalman filter (kalman or switched): the design's gain at every noise level
+  EstimatorChoice estimator;      ///< the observer and the filter's adaptations (runtime/estimator_choice.hpp)
   std::string telemetry_csv;      ///< one row per period when not empty
   std::string explicit_law;       ///< companion file for solver "explicit"
   const VehicleParams* plant_vehicle = nullptr;  ///< the plant's vehicle (null: the artifact's)

@@ -22,6 +22,7 @@
 #include "tmpc/io/serial_port.hpp"
 #include "tmpc/model/trajectory.hpp"
 #include "tmpc/runtime/async_optimizer.hpp"
+#include "tmpc/runtime/estimator_choice.hpp"
 #include "tmpc/runtime/loop_clock.hpp"
 #include "tmpc/runtime/realtime.hpp"
 #include "tmpc/synthesis/artifact.hpp"
@@ -34,6 +35,7 @@ struct ControllerLoopOptions {
   std::string solver_note;           ///< why this solver (--solver auto): the telemetry's first line
   std::string explicit_law;          ///< for solver "explicit"
   std::string tube_law;              ///< "" (the config's), "mayne" or "offset-free"
+  EstimatorChoice estimator;         ///< the observer and the filter's adaptations (estimator_choice.hpp)
   double deadline_fraction = 0.8;    ///< the optimizer's result counts until this fraction of the period
   int silent_periods = 0;            ///< watchdog periods; 0: the artifact's link.watchdog_periods
   double duration_s = 0.0;           ///< stop after this long (0: when `stop` is set)
@@ -64,6 +66,7 @@ struct ControllerLoopStats {
   double solve_p50_us = 0.0, solve_max_us = 0.0;
   io::LinkCounts link;  ///< the decoder's and the state gate's counts
   std::uint32_t session = 0, peer_session = 0;
+  std::string observer;  ///< the law's observer as flown: "none" (Mayne's law), "residual", "kalman" or "switched"
   unsigned long long telemetry_records = 0, telemetry_dropped = 0;
   RealTimeReport realtime;
 };

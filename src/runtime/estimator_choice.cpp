@@ -1,0 +1,22 @@
+// A flight's estimator choice over the artifact's design (see estimator_choice.hpp).
+#include "tmpc/runtime/estimator_choice.hpp"
+
+#include <stdexcept>
+
+namespace tmpc {
+
+TubeControllerOptions flight_law_options(const ControllerArtifact& a, const std::string& tube_law,
+                                         const EstimatorChoice& e) {
+  if (e.no_step_detection && !e.step_reopens_lift) {
+    throw std::invalid_argument("estimator: keeping the lift at a step needs the step detection (both were asked)");
+  }
+  TubeControllerOptions o = tube_law_options(a, tube_law, e.observer_gain, e.observer);
+  o.adaptive_filter_gain = !e.fixed_filter_gain;
+  o.innovation_gate = !e.no_innovation_gate;
+  o.step_detection = !e.no_step_detection;
+  o.step_reopens_lift = e.step_reopens_lift;
+  o.validate();
+  return o;
+}
+
+}  // namespace tmpc
