@@ -51,8 +51,10 @@ void print_controller(const ControllerLoopStats& s) {
               s.watchdog_periods, s.clipped_periods, s.skipped, s.restarts);
   std::printf("  deadline misses: %ld (late %ld + busy %ld + skipped %ld)\n", s.late + s.busy + s.skipped, s.late, s.busy,
               s.skipped);
-  std::printf("  wake-up latency p99 %.1f us, max %.1f us; period jitter max %.1f us; solve p50 %.1f us, max %.1f us\n",
-              s.wake_latency_p99_us, s.wake_latency_max_us, s.period_jitter_max_us, s.solve_p50_us, s.solve_max_us);
+  std::printf("  wake-up latency p99 %.1f us, max %.1f us (%ld periods over half a period); period jitter max %.1f us; "
+              "solve p50 %.1f us, max %.1f us\n",
+              s.wake_latency_p99_us, s.wake_latency_max_us, s.late_wakes, s.period_jitter_max_us, s.solve_p50_us,
+              s.solve_max_us);
   std::printf("  link (session %08x, plant %08x): states %s; %ld send failures; telemetry %llu records, %llu dropped\n",
               s.session, s.peer_session, io::summary(s.link).c_str(), s.send_failures, s.telemetry_records,
               s.telemetry_dropped);
@@ -207,6 +209,7 @@ void run_hil(const RtCli& o) {
   j["clipped_periods"] = cs.clipped_periods;
   j["solve_us"] = {{"p50", cs.solve_p50_us}, {"max", cs.solve_max_us}};
   j["wake_latency_us"] = {{"p99", cs.wake_latency_p99_us}, {"max", cs.wake_latency_max_us}};
+  j["late_wakes"] = cs.late_wakes;
   j["link"] = {{"states", link_json(cs.link)}, {"controls", link_json(ps.link)}};
   j["plant"] = {{"held_periods", ps.held_periods}, {"safe_command_periods", ps.safe_command_periods},
                 {"link_losses", ps.link_losses}, {"first_link_loss_s", ps.first_link_loss_s}};

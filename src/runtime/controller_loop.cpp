@@ -106,6 +106,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
   while (!stop.load(std::memory_order_relaxed) && (max_periods < 0 || st.periods + clock->skipped() < max_periods)) {
     const double lat = clock->wait();
     latency.push_back(lat);  // within the reserved capacity
+    st.late_wakes += lat > 0.5 * T_wall * 1e6;
     if (clock->last_period_us() > 0.0) {
       st.period_jitter_max_us = std::max(st.period_jitter_max_us, std::abs(clock->last_period_us() - T_wall * 1e6));
     }

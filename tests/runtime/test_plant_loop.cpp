@@ -4,7 +4,6 @@
 // pseudo-terminal pair where the plant, then the controller, is killed and restarted
 // in the middle of the mission: the pair reconnects within a few periods and the
 // mission tracks again.
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -196,9 +195,7 @@ RestartRun restart_run(bool restart_plant, double first_s, double second_s) {
     if (!plant_done.load()) r.ctrl_b = run_controller_loop(artifact(), *port, co, stop_ctrl);
     plant.join();
   }
-  // The loops' own late wake-ups count as the host's stalls too: a controller woken
-  // late replies after the plant stopped waiting, whatever the protocol does.
-  r.host_stall_ms = std::max({monitor.stop(), r.ctrl_a.wake_latency_max_us * 1e-3, r.ctrl_b.wake_latency_max_us * 1e-3});
+  r.host_stall_ms = monitor.stop();
   return r;
 }
 
@@ -244,11 +241,14 @@ TEST(PlantLoop, AKilledAndRestartedControllerIsAdoptedAndTheMissionTracksOn) {
   // A period whose solve missed the deadline sends the fallback at the deadline, 0.8 T
   // after the loop woke: with the two free-running clocks' phases more than 0.7 T apart
   // that is past the plant's wait (1.5 T), one silent period each (the new process's
-  // first solves run cold, beside another test on a 2-core host).
-  const long late = r.ctrl_b.late + r.ctrl_b.busy + r.ctrl_b.skipped;
+  // first solves run cold, beside another test on a 2-core host); so does a period the
+  // host woke the loop more than half a period late (the StallMonitor's thread, on the
+  // other core, may not see it).
+  const long late = r.ctrl_b.late + r.ctrl_b.busy + r.ctrl_b.skipped + r.ctrl_b.late_wakes;
   EXPECT_LE(r.plant_a.silent_periods_last_session, 2 + late)
       << "new controller: states " << io::summary(r.ctrl_b.link) << ", " << r.ctrl_b.states << " periods with a state, "
-      << r.ctrl_b.late << " late, " << r.ctrl_b.busy << " busy, " << r.ctrl_b.skipped << " skipped, wake latency max "
+      << r.ctrl_b.late << " late, " << r.ctrl_b.busy << " busy, " << r.ctrl_b.skipped << " skipped, "
+      << r.ctrl_b.late_wakes << " woken late, wake latency max "
       << r.ctrl_b.wake_latency_max_us << " us, solve max " << r.ctrl_b.solve_max_us << " us; host stall "
       << r.host_stall_ms << " ms";
   EXPECT_LT(r.plant_a.max_position_error_final_s, 0.01);

@@ -61,6 +61,7 @@ struct ControllerLoopStats {
   long softened_periods = 0;  ///< the hard QP was infeasible and the softened QP flew
   long skipped = 0;   ///< period boundaries the loop slept through (woken a period late or more)
   long restarts = 0;  ///< law restarts: first state, new sessions of the plant, re-anchored tracks
+  long late_wakes = 0;  ///< periods the loop woke more than half a period late (the host's scheduling)
   int watchdog_periods = 0;
   double wake_latency_max_us = 0.0, wake_latency_p99_us = 0.0, period_jitter_max_us = 0.0;
   double solve_p50_us = 0.0, solve_max_us = 0.0;
