@@ -128,6 +128,21 @@ ControllerLoopStats run_closed_loop(io::Transport& link, int periods, Controller
   return run_controller_loop(artifact(), link, o, stop, seams);
 }
 
+/// Hover 2 m up, yaw 0.
+std::shared_ptr<const Trajectory> hover_at_2m() { return make_hover({Eigen::Vector3d(0, 0, 2), 0.0}); }
+
+/// The tiltrotor's Euler-Lagrange plant under `d`, started on `t`'s reference at t = 0.
+std::unique_ptr<Plant> plant_on(const Config& cfg, const std::shared_ptr<const Trajectory>& t, DisturbanceProfile d) {
+  auto plant = std::make_unique<ElPlant>(cfg.vehicle, std::move(d), cfg.simulation.substep);
+  const TiltrotorModel model(cfg.vehicle);
+  ReferenceGenerator gen(model, t, cfg.attitude);
+  const ReferencePoint r0 = gen.at(0.0);
+  Eigen::VectorXd x0(20);
+  x0 << r0.q, r0.qd;
+  plant->reset(x0, 0.0);
+  return plant;
+}
+
 // `tmpc hil` starts its plant when the controller says it is ready (the law, the
 // solver and the clock built): the flag is set before the first period reads the link,
 // and before nothing else.
@@ -395,14 +410,8 @@ TEST(ControllerLoop, YawingIntoTheForceTurnsTheVehicle) {
     DisturbanceEvent step;
     step.start = 0.5;
     step.force = Eigen::Vector3d(1.2, 0.0, 0.0);
-    auto plant = std::make_unique<ElPlant>(cfg.vehicle, DisturbanceProfile({step}), cfg.simulation.substep);
-    const std::shared_ptr<const Trajectory> hover = make_hover({Eigen::Vector3d(0, 0, 2), 0.0});
-    const TiltrotorModel model(cfg.vehicle);
-    ReferenceGenerator gen(model, hover, cfg.attitude);
-    const ReferencePoint r0 = gen.at(0.0);
-    Eigen::VectorXd x0(20);
-    x0 << r0.q, r0.qd;
-    plant->reset(x0, 0.0);
+    const std::shared_ptr<const Trajectory> hover = hover_at_2m();
+    auto plant = plant_on(cfg, hover, DisturbanceProfile({step}));
     test::SimulatedPlantLink link(std::move(plant), cfg.sample_time, {});
     VirtualClock clock(artifact().sample_time);
     ScriptedOptimizer opt(clock, [](int) { return std::int64_t{1000000}; });
@@ -444,14 +453,8 @@ TEST(ControllerLoop, FliesTheEstimatorItIsGiven) {
     int step_max = 0;
   };
   const auto fly = [&](const EstimatorChoice& e, const std::string& name) {
-    auto plant = std::make_unique<ElPlant>(cfg.vehicle, DisturbanceProfile{}, cfg.simulation.substep);
-    const std::shared_ptr<const Trajectory> hover = make_hover({Eigen::Vector3d(0, 0, 2), 0.0});
-    const TiltrotorModel model(cfg.vehicle);
-    ReferenceGenerator gen(model, hover, cfg.attitude);
-    const ReferencePoint r0 = gen.at(0.0);
-    Eigen::VectorXd x0(20);
-    x0 << r0.q, r0.qd;
-    plant->reset(x0, 0.0);
+    const std::shared_ptr<const Trajectory> hover = hover_at_2m();
+    auto plant = plant_on(cfg, hover, DisturbanceProfile{});
     std::mt19937_64 rng(5);
     std::normal_distribution<double> normal;
     test::SimulatedPlantLink link(std::move(plant), cfg.sample_time, [&](int, io::StateFrame f) {
