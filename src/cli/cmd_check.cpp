@@ -4,7 +4,12 @@
 // flight; exit code 1 with the first time and the numbers when it is not. A flyable
 // trajectory's forces on the load are then checked against the state box
 // (force_envelope.hpp): a warning, not a refusal, when no controller can hold them.
+// --forces FILE writes the force on the load every period (world frame, the sample
+// instants k T) with the reference's yaw, for scripts/best_case_peak.py --forces.
+#include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,14 +26,30 @@ namespace tmpc::cli {
 namespace {
 
 struct CheckOptions {
-  std::string controller, scenario;
+  std::string controller, scenario, forces;
   bool json = false;
 };
+
+// t, the load force (N, world frame) and the reference's yaw (rad), one row a period.
+void write_forces(const std::string& path, const ControllerArtifact& a, const Scenario& sc) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("--forces " + path + ": cannot open for writing");
+  out << "t,f_x,f_y,f_z,psi_ref\n";
+  out.precision(17);
+  const long periods = std::lround(sc.duration / a.sample_time);
+  for (long k = 0; k <= periods; ++k) {
+    const double t = static_cast<double>(k) * a.sample_time;
+    const Eigen::Vector3d f = sc.disturbances.load_force(t);
+    out << t << ',' << f.x() << ',' << f.y() << ',' << f.z() << ',' << sc.trajectory->at(t).psi << '\n';
+  }
+  if (!out) throw std::runtime_error("--forces " + path + ": write failed");
+}
 
 int run_check(const CheckOptions& o) {
   const ControllerArtifact a = load_artifact(o.controller);
   const Scenario sc = load_scenario(data_file(o.scenario));
   const PreflightReport r = check_flight(a, *sc.trajectory, sc.duration);
+  if (!o.forces.empty()) write_forces(o.forces, a, sc);
   const ForceEnvelopeReport f = r.ok ? check_force_envelope(a, *sc.trajectory, sc.disturbances, sc.duration) : ForceEnvelopeReport{};
   if (o.json) {
     nlohmann::json j;
@@ -68,6 +89,9 @@ void register_check(CLI::App& app) {
   sub->add_option("--controller", o->controller, "controller artifact")->required()->check(CLI::ExistingFile);
   sub->add_option("--scenario", o->scenario, "scenario file")->required()->check(CLI::ExistingFile);
   sub->add_flag("--json", o->json, "print JSON");
+  sub->add_option("--forces", o->forces,
+                  "write CSV t,f_x,f_y,f_z,psi_ref: the force on the load (N, world frame) and the reference's yaw every "
+                  "period, for scripts/best_case_peak.py --forces");
   sub->callback([o]() {
     const int rc = run_check(*o);
     if (rc != 0) throw CLI::RuntimeError(rc);

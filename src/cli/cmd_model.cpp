@@ -98,7 +98,7 @@ void run_model(const ModelOptions& opt) {
                    {"error_min", to_vec(em.input_error_min)},
                    {"error_max", to_vec(em.input_error_max)}};
     j["vehicle"] = {{"load_mass", cfg.vehicle.load_mass}, {"body_mass", cfg.vehicle.body_mass},
-                    {"rotor_mass", cfg.vehicle.rotor_mass}, {"run", opt.run}};
+                    {"rotor_mass", cfg.vehicle.rotor_mass}, {"gravity", cfg.vehicle.gravity}, {"run", opt.run}};
     if (opt.matrices) {
       // x(k+1) = A x(k) + B u(k) + D d(k): the augmented error model at sigma = 0 (physical
       // units; d the force on the load, N), with the box and the actuator limits.
