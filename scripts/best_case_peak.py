@@ -1,23 +1,44 @@
 #!/usr/bin/python3
 """The smallest peak of the state errors (as a fraction of their bounds) that ANY
-controller could reach after a force step, on the linear error model: a lower bound
-to compare a flight's violations against.
+controller could reach under a force on the load, on the linear error model: a lower
+bound to compare a flight's violations against.
 
     tmpc model --config C [--scenario S --run K] --json --matrices > model.json
     scripts/best_case_peak.py model.json --force 1 0 0 [--horizon 2.0]
+    tmpc check --controller A --scenario S --forces forces.csv
+    scripts/best_case_peak.py model.json --forces forces.csv --window 62 80 [--yaw-free] [--static-tilt]
 
-From zero error, the force F (N, on the load) acts from period 0 on; the inputs over
-the horizon are free within the actuator limits (u_eq + u in [u_min, u_max]) and known
-the force exactly from the step on (a clairvoyant controller: no estimation delay).
-The linear program
+A step (--force): from zero error, the force F (N, on the load) acts from period 0 on;
+the inputs over the horizon are free within the actuator limits (u_eq + u in
+[u_min, u_max]) and know the force exactly from the step on (a clairvoyant controller:
+no estimation delay). The linear program
 
-    min t  s.t.  x(k+1) = A x(k) + B u(k) + D F,  x(0) = 0,
+    min t  s.t.  x(k+1) = A x(k) + B u(k) + D F(k),  x(0) = 0,
                  |x_i(k)| <= t * b_i  (the measured states, k = 1..H),  u in U
 
-(GLPK's simplex through cvxopt, independent of tmpc's solvers) gives t*: when t* > 1 no controller keeps the
-linearized plant inside the box after this step; below 1, t* is how far inside the
-best one stays. Prints t* and the bound that forces it (the box row of the largest
-multiplier: its state and time), JSON with --json.
+(GLPK's simplex through cvxopt, independent of tmpc's solvers) gives t*: when t* > 1 no
+controller keeps the linearized plant inside the box after this step; below 1, t* is
+how far inside the best one stays. Prints t* and the bound that forces it (the box row
+of the largest multiplier: its state and time), JSON with --json.
+
+A force series (--forces, written by `tmpc check --forces`: the scenario's force on the
+load every period, world frame, and the reference's yaw) over a window [T0, T1]: the
+same program with F(k) the series seen in the reference's heading frame, known over the
+whole window in advance (perfect preview), and x(0) free inside the scaled box (the
+best state any controller could have reached by T0), so t* bounds the peak over the
+window from below for every controller whose errors stay inside the box before it.
+  --yaw-free   the vehicle may turn by up to psi's bound from the reference's yaw: each
+               period's horizontal force may point anywhere on its arc of directions
+               (its convex hull, by tangents: a relaxation, still a lower bound), the
+               horizontal position and speed bounds taken in the turned frame at their
+               largest over the arc (also a relaxation). The yaw's own dynamics and the
+               second-order terms of turning are not modelled.
+  --static-tilt  the linear model tilts the rod by F_h / (m_L g) statically, the load
+               by atan(F_h / (m_L g - F_z)); with this flag the horizontal force is
+               scaled so that the linear static tilt is the rod's true one (an upward
+               force then tilts more: the linear model misses it). Near the box's edge
+               the uncalibrated model is optimistic by about 10 %, the calibrated one is
+               an estimate, not a bound: it is exact only statically.
 """
 import argparse
 import json
@@ -27,62 +48,186 @@ import numpy as np
 from cvxopt import matrix, solvers, spmatrix
 
 
-def best_case_peak(model, force, horizon_s):
+def _lqr_gain(A, B, iterations=20000, tol=1e-10):
+    """u = K x of the discrete LQR with Q = I, R = I (the Riccati recursion to its fixed point)."""
+    P = np.eye(A.shape[0])
+    R = np.eye(B.shape[1])
+    for _ in range(iterations):
+        K = -np.linalg.solve(R + B.T @ P @ B, B.T @ P @ A)
+        P_next = np.eye(A.shape[0]) + A.T @ P @ (A + B @ K)
+        P_next = 0.5 * (P_next + P_next.T)
+        if np.max(np.abs(P_next - P)) <= tol * np.max(np.abs(P_next)):
+            P = P_next
+            break
+        P = P_next
+    K = -np.linalg.solve(R + B.T @ P @ B, B.T @ P @ A)
+    if np.max(np.abs(np.linalg.eigvals(A + B @ K))) >= 1.0:
+        raise RuntimeError("the scaled model's LQR gain does not stabilize it")
+    return K
+
+
+def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
+    """min t over the window; horizontal: per period the (2,) force in the reference's
+    heading frame; yaw_arc None or psi_max (the force's direction free on its arc)."""
     m = model["matrices"]
     A, B, D = (np.array(m[k]) for k in ("A", "B", "D"))
     T = model["discrete"]["sample_time"]
-    H = int(round(horizon_s / T))
-    n, nu = B.shape
+    names = m["state_names"]
     p = int(m["measured"])
-    bound = np.array(m["state_error_max"])[:p]
+    # The states past the measured ones (the integrals of the position errors) are the
+    # controller's: they never act on the plant's, and the box does not bound them.
+    A, B, D = A[:p, :p], B[:p], D[:p]
+    n, nu = B.shape
+    H = len(force_z)
+    bound = np.array(m["state_error_max"], dtype=float)[:p]
+    if yaw_arc is not None:  # the reference-frame box seen from a frame turned by up to psi_max
+        c, s = np.cos(yaw_arc), np.sin(yaw_arc)
+        for a_, b_ in (("x", "y"), ("d_x", "d_y")):
+            i, j = names.index(a_), names.index(b_)
+            bound[i], bound[j] = bound[i] * c + bound[j] * s, bound[i] * s + bound[j] * c
     u_lo = np.array(m["input_min"]) - np.array(m["u_eq"])
     u_hi = np.array(m["input_max"]) - np.array(m["u_eq"])
-    f = D @ np.asarray(force, dtype=float)
-    # Variables: x(1..H) (n each), u(0..H-1) (nu each), t; sparse, the dynamics as
+    fh = np.array(horizontal, dtype=float).reshape(H, 2)
+    fz = np.asarray(force_z, dtype=float)
+    if static_tilt:
+        mg = model["vehicle"]["load_mass"] * model["vehicle"]["gravity"]
+        mag = np.linalg.norm(fh, axis=1)
+        if np.any(fz >= mg):
+            raise ValueError("--static-tilt: the vertical force lifts the load (F_z >= m_L g)")
+        scale = np.where(mag > 1e-12, mg * np.arctan(mag / (mg - fz)) / np.maximum(mag, 1e-12), 1.0)
+        fh = fh * scale[:, None]
+    # Variables: x(k0..H) (n each; k0 = 0 with a free start, else x(0) = 0 is no variable),
+    # u(0..H-1), w(0..H-1) (the horizontal force, 2 each), t; the dynamics as sparse
     # equalities (the open-loop model has unstable modes: powers of A condition badly).
-    nx, nuH = n * H, nu * H
-    nz = nx + nuH + 1
-    xi = lambda k: nx * 0 + n * (k - 1)  # column of x(k), k = 1..H
-    ui = lambda k: nx + nu * k           # column of u(k), k = 0..H-1
+    k0 = 0 if free_start else 1
+    nx = n * (H + 1 - k0)
+    xi = lambda k: n * (k - k0)
+    ui = lambda k: nx + nu * k
+    wi = lambda k: nx + nu * H + 2 * k
+    nz = nx + nu * H + 2 * H + 1
     Ai, Aj, Av, b = [], [], [], []
-    for k in range(H):  # x(k+1) - A x(k) - B u(k) = D F
+    # Scaled: the states in units of their bounds (x = S_x xs), the inputs of their
+    # largest excursion (u = S_u us), each dynamics row divided by its state's bound:
+    # the simplex stalls on the raw model, whose entries span eight decades.
+    u_scale = np.maximum(np.abs(u_lo), np.abs(u_hi))
+    As = A * bound[None, :] / bound[:, None]
+    Bs = B * u_scale[None, :] / bound[:, None]
+    Ds = D / bound[:, None]
+    # Pre-stabilized: us = K xs + v with K the LQR gain of the scaled model, the
+    # variables v (a change of variables, the same feasible set): the chain of
+    # equalities then follows a stable A + B K, and the simplex's bases stay well
+    # conditioned over long windows (with the open-loop A they turn singular).
+    K = _lqr_gain(As, Bs)
+    Acl = As + Bs @ K
+    for k in range(H):  # xs(k+1) - (As + Bs K) xs(k) - Bs v(k) - Ds_h w(k) = Ds_z F_z(k)
         for r in range(n):
-            Ai.append(k * n + r); Aj.append(xi(k + 1) + r); Av.append(1.0)
-            if k > 0:
-                for q in np.nonzero(A[r])[0]:
-                    Ai.append(k * n + r); Aj.append(xi(k) + q); Av.append(-A[r, q])
-            for q in np.nonzero(B[r])[0]:
-                Ai.append(k * n + r); Aj.append(ui(k) + q); Av.append(-B[r, q])
-        b.extend(f)
+            row = k * n + r
+            Ai.append(row); Aj.append(xi(k + 1) + r); Av.append(1.0)
+            if k >= k0:
+                for q in np.nonzero(Acl[r])[0]:
+                    Ai.append(row); Aj.append(xi(k) + q); Av.append(-Acl[r, q])
+            for q in np.nonzero(Bs[r])[0]:
+                Ai.append(row); Aj.append(ui(k) + q); Av.append(-Bs[r, q])
+            for q in (0, 1):
+                if Ds[r, q] != 0.0:
+                    Ai.append(row); Aj.append(wi(k) + q); Av.append(-Ds[r, q])
+            b.append(Ds[r, 2] * fz[k])
     Gi, Gj, Gv, h = [], [], [], []
     row = 0
-    for k in range(1, H + 1):  # +-x_i(k) / b_i - t <= 0
+    for k in range(k0, H + 1):  # +-xs_i(k) - t <= 0
         for i in range(p):
             for sign in (1.0, -1.0):
-                Gi += [row, row]; Gj += [xi(k) + i, nz - 1]; Gv += [sign / bound[i], -1.0]; h.append(0.0)
+                Gi += [row, row]; Gj += [xi(k) + i, nz - 1]; Gv += [sign, -1.0]; h.append(0.0)
                 row += 1
-    for k in range(H):  # u_lo <= u(k) <= u_hi
+    n_box = row
+    for k in range(H):  # u_lo <= S_u (K xs(k) + v(k)) <= u_hi
         for q in range(nu):
-            Gi.append(row); Gj.append(ui(k) + q); Gv.append(1.0); h.append(u_hi[q]); row += 1
-            Gi.append(row); Gj.append(ui(k) + q); Gv.append(-1.0); h.append(-u_lo[q]); row += 1
+            for sign, lim in ((1.0, u_hi[q]), (-1.0, -u_lo[q])):
+                Gi.append(row); Gj.append(ui(k) + q); Gv.append(sign)
+                if k >= k0:
+                    for c in np.nonzero(K[q])[0]:
+                        Gi.append(row); Gj.append(xi(k) + c); Gv.append(sign * K[q, c])
+                h.append(lim / u_scale[q]); row += 1
+    for k in range(H):
+        r_k = float(np.hypot(*fh[k]))
+        if yaw_arc is None or r_k < 1e-12:  # w(k) = the force (as two inequalities)
+            for q in (0, 1):
+                Gi.append(row); Gj.append(wi(k) + q); Gv.append(1.0); h.append(fh[k, q]); row += 1
+                Gi.append(row); Gj.append(wi(k) + q); Gv.append(-1.0); h.append(-fh[k, q]); row += 1
+            continue
+        # The arc {r (cos th, sin th): |th - a| <= psi_max} (the vehicle turned by -+psi:
+        # the force turns the other way in its frame, the same arc): inside the tangents
+        # at 9 points of it and beyond its chord.
+        a = float(np.arctan2(fh[k, 1], fh[k, 0]))
+        for th in np.linspace(a - yaw_arc, a + yaw_arc, 9):
+            Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [np.cos(th), np.sin(th)]; h.append(r_k); row += 1
+        Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [-np.cos(a), -np.sin(a)]
+        h.append(-r_k * np.cos(yaw_arc)); row += 1
     cost = np.zeros(nz)
     cost[-1] = 1.0
-    solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF"}
     sp = lambda v, i, j, shape: spmatrix([float(x) for x in v], [int(x) for x in i], [int(x) for x in j], shape)
     col = lambda v: matrix([float(x) for x in v])
-    sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n * H, nz)), col(b), solver="glpk")
+    # The primal simplex first; on the long windows it can stall ("unknown"): then
+    # GLPK's presolver, then the dual simplex, each once.
+    tries = [{}, {"presolve": "GLP_ON"}, {"meth": "GLP_DUALP"}]
+    for extra in tries:
+        solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF", **extra}
+        sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n * H, nz)), col(b),
+                         solver="glpk")
+        if sol["status"] == "optimal":
+            break
     if sol["status"] != "optimal":
-        raise RuntimeError(f"LP: {sol['status']}")
+        raise RuntimeError(f"LP: {sol['status']} (GLPK's primal simplex, with its presolver and the dual simplex)")
     z = np.array(sol["x"]).ravel()
     # The binding bound: the box row of the largest multiplier (the optimum reaches t*
     # in many places, most of them free; the multipliers say which ones force it).
-    t_star = float(z[-1])
-    duals = np.array(sol["z"]).ravel()[:2 * p * H]
+    duals = np.array(sol["z"]).ravel()[:n_box]
     j = int(np.argmax(duals))
-    k, i = j // (2 * p) + 1, (j % (2 * p)) // 2
-    worst = (m["state_names"][i], k * T)
-    return {"peak": t_star, "binding_state": worst[0], "binding_time": worst[1], "horizon_s": H * T,
+    k, i = j // (2 * p) + k0, (j % (2 * p)) // 2
+    return float(z[-1]), names[i], k * T
+
+
+def best_case_peak(model, force, horizon_s):
+    """After a step F from zero error over horizon_s (the period after the step first)."""
+    T = model["discrete"]["sample_time"]
+    H = int(round(horizon_s / T))
+    f = np.asarray(force, dtype=float)
+    t, state, when = _lp(model, np.full(H, f[2]), np.tile(f[:2], (H, 1)), False, None, False)
+    return {"peak": t, "binding_state": state, "binding_time": when, "horizon_s": H * T,
             "force": list(map(float, force)), "vehicle": model.get("vehicle", {})}
+
+
+def read_forces(path):
+    """`tmpc check --forces` CSV: t, f_x, f_y, f_z, psi_ref per row."""
+    with open(path) as fh:
+        header = fh.readline().strip().split(",")
+    if header != ["t", "f_x", "f_y", "f_z", "psi_ref"]:
+        raise ValueError(f"{path}: header {header}, expected t,f_x,f_y,f_z,psi_ref (tmpc check --forces)")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    if data.shape[0] < 2 or data.shape[1] != 5:
+        raise ValueError(f"{path}: {data.shape[0]} rows of {data.shape[1]} columns, expected at least 2 of 5")
+    return data
+
+
+def best_case_window(model, forces, window, yaw_free=False, static_tilt=False):
+    """Over [T0, T1) of a force series, x(T0) free in the scaled box: the peak's lower bound."""
+    T = model["discrete"]["sample_time"]
+    step = forces[1, 0] - forces[0, 0]
+    if abs(step - T) > 1e-9 * T:
+        raise ValueError(f"forces: rows {step} s apart, the model's sample time is {T} s")
+    k0, k1 = (int(round((w - forces[0, 0]) / T)) for w in window)
+    if not (0 <= k0 < k1 <= forces.shape[0]):
+        raise ValueError(f"--window {window[0]} {window[1]}: outside the series' "
+                         f"{forces[0, 0]} to {forces[-1, 0] + T} s, or empty")
+    seg = forces[k0:k1]
+    c, s = np.cos(seg[:, 4]), np.sin(seg[:, 4])  # world -> the reference's heading frame
+    horizontal = np.column_stack([c * seg[:, 1] + s * seg[:, 2], -s * seg[:, 1] + c * seg[:, 2]])
+    psi_max = None
+    if yaw_free:
+        psi_max = float(model["matrices"]["state_error_max"][model["matrices"]["state_names"].index("psi")])
+    t, state, when = _lp(model, seg[:, 3], horizontal, True, psi_max, static_tilt)
+    return {"peak": t, "binding_state": state, "binding_time": forces[k0, 0] + when, "window": list(window),
+            "yaw_free": yaw_free, "static_tilt": static_tilt, "vehicle": model.get("vehicle", {})}
 
 
 def main():
@@ -90,18 +235,36 @@ def main():
     ap.add_argument("model", help="tmpc model --json --matrices output")
     ap.add_argument("--force", nargs=3, type=float, default=[1.0, 0.0, 0.0], help="N on the load (default 1 0 0)")
     ap.add_argument("--horizon", type=float, default=2.0, help="s (default 2)")
+    ap.add_argument("--forces", help="a force series (tmpc check --forces) instead of the step")
+    ap.add_argument("--window", nargs=2, type=float, metavar=("T0", "T1"), help="s of the series (with --forces)")
+    ap.add_argument("--yaw-free", action="store_true", help="with --forces: the vehicle may turn within psi's bound")
+    ap.add_argument("--static-tilt", action="store_true", help="with --forces: the force scaled to the true static tilt")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
+    if (a.forces is None) != (a.window is None):
+        sys.exit("--forces and --window go together")
+    if a.forces is None and (a.yaw_free or a.static_tilt):
+        sys.exit("--yaw-free and --static-tilt need --forces")
     with open(a.model) as fh:
         model = json.load(fh)
     if "matrices" not in model:
         sys.exit(f"{a.model}: no matrices (run tmpc model with --json --matrices)")
-    r = best_case_peak(model, a.force, a.horizon)
+    try:
+        if a.forces is None:
+            r = best_case_peak(model, a.force, a.horizon)
+        else:
+            r = best_case_window(model, read_forces(a.forces), a.window, a.yaw_free, a.static_tilt)
+    except (ValueError, RuntimeError) as e:
+        sys.exit(str(e))
     if a.json:
         print(json.dumps(r))
-    else:
+    elif a.forces is None:
         print(f"best case after a {r['force']} N step over {r['horizon_s']:.2f} s: peak {r['peak']:.4f} of the "
               f"bounds (binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
+    else:
+        how = ("yaw free" if a.yaw_free else "yaw held") + (", static tilt calibrated" if a.static_tilt else "")
+        print(f"best case over {a.window[0]} to {a.window[1]} s ({how}): peak {r['peak']:.4f} of the bounds "
+              f"(binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
 
 
 if __name__ == "__main__":

@@ -237,6 +237,53 @@ elif check == "best-case":
         fh.write(run("model", "--config", config, "--json").stdout)
     p = subprocess.run([sys.executable, script, bare], capture_output=True, text=True, timeout=60)
     need(p.returncode != 0 and "bare.json: no matrices" in p.stderr, f"a model without matrices: {p.stderr}")
+    # A force series (tmpc check --forces) over a window: a constant 2 N along world x
+    # from t = 0 on the vehicle hovering at yaw 0.3 rad. Oracles, none from the LP: the
+    # rod's static tilt F / (m_L g) (linear model) or atan(F / (m_L g)) (--static-tilt)
+    # of the force's larger component in the reference's heading frame (F cos 0.3),
+    # against theta's 0.5 rad bound; with the yaw free within psi's 0.5 rad the force
+    # can be turned onto the diagonal (-pi/4 is within -0.3 -+ 0.5): F cos(pi/4) on
+    # both, less the relaxation's chord (1 %). The window's start is free, so the LP
+    # may let the load accelerate along the force: over W seconds its mean acceleration
+    # is at most 2 dv_max / W (the speed bound, widened by the turn with the yaw free),
+    # which takes at most that / g rad off the tilt.
+    hover = os.path.join(scratch, "push.yaml")
+    with open(hover, "w") as fh:
+        fh.write("name: push\nduration: 6.0\ntrajectory: {type: hover, position: [0.0, 0.0, 3.0], yaw: 0.3}\n"
+                 "disturbances:\n  - {type: step, time: 0.0, force: [2.0, 0.0, 0.0]}\n")
+    series = os.path.join(scratch, "push.csv")
+    run("check", "--controller", art, "--scenario", hover, "--forces", series)
+    rows = [line.split(",") for line in open(series).read().splitlines()]
+    need(rows[0] == ["t", "f_x", "f_y", "f_z", "psi_ref"], f"--forces header {rows[0]}")
+    need(len(rows) == 1 + 501, f"--forces: {len(rows) - 1} rows for 6 s at 12 ms")
+    need(all(abs(float(r[0]) - 0.012 * k) < 1e-9 and [float(v) for v in r[1:]] == [2.0, 0.0, 0.0, 0.3]
+             for k, r in enumerate(rows[1:])), f"--forces rows: {rows[1:3]} ...")
+    p = run("check", "--controller", art, "--scenario", hover, "--forces", os.path.join(scratch, "no", "x.csv"),
+            expect_rc=None)
+    need(p.returncode != 0 and "--forces " in p.stderr and "cannot open" in p.stderr, f"--forces unwritable: {p.stderr}")
+    nominal = os.path.join(scratch, "model_None_None.json")
+    mg, window = 0.5 * 9.81, 4.0
+    widened = 0.6 * math.sin(0.5) + 1.0 * math.cos(0.5)  # d_y's bound seen from a frame turned by 0.5 rad
+    for extra, static, relax, dv in [([], 2.0 * math.cos(0.3) / mg, 0.0, 0.6),
+                                      (["--static-tilt"], math.atan(2.0 / mg) * math.cos(0.3), 0.0, 0.6),
+                                      (["--yaw-free"], 2.0 * math.cos(math.pi / 4) / mg, 0.01, widened)]:
+        p = subprocess.run([sys.executable, script, nominal, "--forces", series, "--window", "1", str(1 + window),
+                            "--json", *extra], capture_output=True, text=True, timeout=600)
+        need(p.returncode == 0, f"--forces {extra}: {p.stderr}")
+        if p.returncode != 0:
+            continue
+        r = json.loads(p.stdout)
+        lo = (static * (1 - relax) - 2 * dv / window / 9.81) / 0.5
+        print(f"2 N along x {extra}: best case {r['peak']:.4f} ({r['binding_state']}), static {static / 0.5:.4f}, "
+              f"at least {lo:.4f}")
+        need(lo <= r["peak"] <= static / 0.5 + 1e-3, f"--forces {extra}: {r['peak']} outside [{lo}, {static / 0.5}]")
+    for args, what in [(["--forces", series, "--window", "5", "9"], "outside the series"),
+                       (["--forces", series, "--window", "3", "2"], "or empty"),
+                       (["--window", "1", "2"], "--forces and --window go together"),
+                       (["--yaw-free"], "--yaw-free and --static-tilt need --forces"),
+                       (["--forces", hover, "--window", "1", "2"], "expected t,f_x,f_y,f_z,psi_ref")]:
+        p = subprocess.run([sys.executable, script, nominal, *args], capture_output=True, text=True, timeout=60)
+        need(p.returncode != 0 and what in p.stderr, f"best_case_peak.py {args}: {p.returncode} {p.stderr}")
 elif check == "second-system":
     # The mass-spring pair (config/mass_spring.yaml): designed, flown on the virtual
     # clock and in real time over a pseudo-terminal pair by the same commands.
