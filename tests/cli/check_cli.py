@@ -277,7 +277,11 @@ elif check == "best-case":
         print(f"2 N along x {extra}: best case {r['peak']:.4f} ({r['binding_state']}), static {static / 0.5:.4f}, "
               f"at least {lo:.4f}")
         need(lo <= r["peak"] <= static / 0.5 + 1e-3, f"--forces {extra}: {r['peak']} outside [{lo}, {static / 0.5}]")
+    lifting = os.path.join(scratch, "lift.csv")  # 5 N up on a 0.5 kg load: no static tilt exists
+    with open(lifting, "w") as fh:
+        fh.write("t,f_x,f_y,f_z,psi_ref\n" + "".join(f"{0.012 * k},1,0,5,0\n" for k in range(100)))
     for args, what in [(["--forces", series, "--window", "5", "9"], "outside the series"),
+                       (["--forces", lifting, "--window", "0", "1", "--static-tilt"], "lifts the load"),
                        (["--forces", series, "--window", "3", "2"], "or empty"),
                        (["--window", "1", "2"], "--forces and --window go together"),
                        (["--yaw-free"], "--yaw-free and --static-tilt need --forces"),
