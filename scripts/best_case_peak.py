@@ -80,11 +80,15 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
     n, nu = B.shape
     H = len(force_z)
     bound = np.array(m["state_error_max"], dtype=float)[:p]
-    if yaw_arc is not None:  # the reference-frame box seen from a frame turned by up to psi_max
-        c, s = np.cos(yaw_arc), np.sin(yaw_arc)
+    if yaw_arc is not None:  # the reference-frame box seen from a frame turned by up to psi_max:
+        # |v_x'| <= max over |psi| <= psi_max of b_x cos psi + b_y |sin psi| (and v_y' alike)
+        def widest(b_along, b_across):
+            if np.arctan2(b_across, b_along) <= yaw_arc:
+                return float(np.hypot(b_along, b_across))
+            return float(b_along * np.cos(yaw_arc) + b_across * np.sin(yaw_arc))
         for a_, b_ in (("x", "y"), ("d_x", "d_y")):
             i, j = names.index(a_), names.index(b_)
-            bound[i], bound[j] = bound[i] * c + bound[j] * s, bound[i] * s + bound[j] * c
+            bound[i], bound[j] = widest(bound[i], bound[j]), widest(bound[j], bound[i])
     u_lo = np.array(m["input_min"]) - np.array(m["u_eq"])
     u_hi = np.array(m["input_max"]) - np.array(m["u_eq"])
     fh = np.array(horizontal, dtype=float).reshape(H, 2)
