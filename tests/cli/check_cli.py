@@ -5,7 +5,7 @@ and its figures are parsed and compared with what the README states.
     check_cli.py TMPC CONFIG SCRATCH CHECK    (CHECK: openloop-el | openloop-mujoco |
                                                unknown-plant | crosscheck | devices | batch |
                                                preflight | second-system | best-case |
-                                               robustness-sweep)
+                                               best-case-gust | robustness-sweep)
 """
 import json
 import math
@@ -397,6 +397,26 @@ elif check == "robustness-sweep":
         need("error" not in (q.stdout + q.stderr).lower(), f"tmpc check {f}: {q.stdout}{q.stderr}")
     p = subprocess.run(sweep + ["--count", "0"], capture_output=True, text=True, timeout=60)
     need(p.returncode != 0 and "--count must be in [1, 360], got 0" in p.stderr, f"--count 0: {p.stderr}")
+elif check == "best-case-gust":
+    # README "What this does not reach": the shipped gusts scenario (seed 3) over 66 to
+    # 72 s, where its static tilt leaves the box at the reference's yaw. Even knowing the
+    # gust in advance, a controller that holds the yaw leaves the box (1.10); one that
+    # may turn stays inside (0.795). On the linear model calibrated to the static tilt.
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "best_case_peak.py")
+    art = design_quick()
+    series = os.path.join(scratch, "gusts.csv")
+    run("check", "--controller", art, "--scenario", scenarios + "gusts.yaml", "--forces", series)
+    model = os.path.join(scratch, "model.json")
+    with open(model, "w") as fh:
+        fh.write(run("model", "--config", config, "--json", "--matrices").stdout)
+    for extra, peak in [([], 1.1048), (["--yaw-free"], 0.7952)]:
+        p = subprocess.run([sys.executable, script, model, "--forces", series, "--window", "66", "72", "--static-tilt",
+                            "--json", *extra], capture_output=True, text=True, timeout=900)
+        need(p.returncode == 0, f"gusts {extra}: {p.stderr}")
+        if p.returncode == 0:
+            r = json.loads(p.stdout)
+            print(f"gusts seed 3, 66 to 72 s {extra}: best case {r['peak']:.4f} ({r['binding_state']})")
+            need(abs(r["peak"] - peak) < 2e-3, f"gusts {extra}: best case {r['peak']}, README states {peak}")
 else:
     sys.exit(f"unknown check {check}")
 
