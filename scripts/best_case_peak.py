@@ -171,17 +171,10 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
     cost[-1] = 1.0
     sp = lambda v, i, j, shape: spmatrix([float(x) for x in v], [int(x) for x in i], [int(x) for x in j], shape)
     col = lambda v: matrix([float(x) for x in v])
-    # The primal simplex first; on the long windows it can stall ("unknown"): then
-    # GLPK's presolver, then the dual simplex, each once.
-    tries = [{}, {"presolve": "GLP_ON"}, {"meth": "GLP_DUALP"}]
-    for extra in tries:
-        solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF", **extra}
-        sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n * H, nz)), col(b),
-                         solver="glpk")
-        if sol["status"] == "optimal":
-            break
+    solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF"}
+    sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n * H, nz)), col(b), solver="glpk")
     if sol["status"] != "optimal":
-        raise RuntimeError(f"LP: {sol['status']} (GLPK's primal simplex, with its presolver and the dual simplex)")
+        raise RuntimeError(f"LP: {sol['status']} (GLPK's simplex)")
     z = np.array(sol["x"]).ravel()
     # The binding bound: the box row of the largest multiplier (the optimum reaches t*
     # in many places, most of them free; the multipliers say which ones force it).
