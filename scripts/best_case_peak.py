@@ -7,6 +7,7 @@ bound to compare a flight's violations against.
     scripts/best_case_peak.py model.json --force 1 0 0 [--horizon 2.0]
     tmpc check --controller A --scenario S --forces forces.csv
     scripts/best_case_peak.py model.json --forces forces.csv --window 62 80 [--yaw-free] [--static-tilt]
+                              [--at-rest]
 
 A step (--force): from zero error, the force F (N, on the load) acts from period 0 on;
 the inputs over the horizon are free within the actuator limits (u_eq + u in
@@ -39,6 +40,13 @@ window from below for every controller whose errors stay inside the box before i
                force then tilts more: the linear model misses it). Near the box's edge
                the uncalibrated model is optimistic by about 10 %, the calibrated one is
                an estimate, not a bound: it is exact only statically.
+  --at-rest    x(0) at rest under the force of the period before the window (the best
+               such equilibrium: its positions and, with --yaw-free, its yaw free): a
+               controller that had settled and learns the force only from T0 on. For a
+               window that starts at an event (a step, a gust's redraw: from then on the
+               gust follows its first-order lag to the new command, which a controller
+               that knows the gust's model reads within a period or two), t* is the best
+               case without preview of the event.
 """
 import argparse
 import json
@@ -66,9 +74,10 @@ def _lqr_gain(A, B, iterations=20000, tol=1e-10):
     return K
 
 
-def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
+def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest=None):
     """min t over the window; horizontal: per period the (2,) force in the reference's
-    heading frame; yaw_arc None or psi_max (the force's direction free on its arc)."""
+    heading frame; yaw_arc None or psi_max (the force's direction free on its arc);
+    rest None or (horizontal (2,), force_z): x(0) at rest under that force (free start)."""
     m = model["matrices"]
     A, B, D = (np.array(m[k]) for k in ("A", "B", "D"))
     T = model["discrete"]["sample_time"]
@@ -79,6 +88,11 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
     A, B, D = A[:p, :p], B[:p], D[:p]
     n, nu = B.shape
     H = len(force_z)
+    assert rest is None or free_start, "a start at rest is a free start's special case"
+    r0 = 0 if rest is None else 1  # the rest force is the force row before the window's first
+    if rest is not None:
+        horizontal = np.vstack([np.reshape(rest[0], (1, 2)), np.reshape(horizontal, (H, 2))])
+        force_z = np.concatenate([[rest[1]], force_z])
     bound = np.array(m["state_error_max"], dtype=float)[:p]
     if yaw_arc is not None:  # the reference-frame box seen from a frame turned by up to psi_max:
         # |v_x'| <= max over |psi| <= psi_max of b_x cos psi + b_y |sin psi| (and v_y' alike)
@@ -91,7 +105,7 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
             bound[i], bound[j] = widest(bound[i], bound[j]), widest(bound[j], bound[i])
     u_lo = np.array(m["input_min"]) - np.array(m["u_eq"])
     u_hi = np.array(m["input_max"]) - np.array(m["u_eq"])
-    fh = np.array(horizontal, dtype=float).reshape(H, 2)
+    fh = np.array(horizontal, dtype=float).reshape(H + r0, 2)
     fz = np.asarray(force_z, dtype=float)
     if static_tilt:
         mg = model["vehicle"]["load_mass"] * model["vehicle"]["gravity"]
@@ -101,14 +115,16 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
         scale = np.where(mag > 1e-12, mg * np.arctan(mag / (mg - fz)) / np.maximum(mag, 1e-12), 1.0)
         fh = fh * scale[:, None]
     # Variables: x(k0..H) (n each; k0 = 0 with a free start, else x(0) = 0 is no variable),
-    # u(0..H-1), w(0..H-1) (the horizontal force, 2 each), t; the dynamics as sparse
+    # u(0..H-1), w(0..H-1) (the horizontal force, 2 each; w(-1) the rest force's, then
+    # the rest input ve), t; the dynamics as sparse
     # equalities (the open-loop model has unstable modes: powers of A condition badly).
     k0 = 0 if free_start else 1
     nx = n * (H + 1 - k0)
     xi = lambda k: n * (k - k0)
     ui = lambda k: nx + nu * k
-    wi = lambda k: nx + nu * H + 2 * k
-    nz = nx + nu * H + 2 * H + 1
+    wi = lambda k: nx + nu * H + 2 * (k + r0)
+    nz = nx + nu * H + 2 * (H + r0) + r0 * nu + 1
+    ei = nz - 1 - nu  # rest: the equilibrium's input ve (us = K xs(0) + ve)
     Ai, Aj, Av, b = [], [], [], []
     # Scaled: the states in units of their bounds (x = S_x xs), the inputs of their
     # largest excursion (u = S_u us), each dynamics row divided by its state's bound:
@@ -135,7 +151,21 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
             for q in (0, 1):
                 if Ds[r, q] != 0.0:
                     Ai.append(row); Aj.append(wi(k) + q); Av.append(-Ds[r, q])
-            b.append(Ds[r, 2] * fz[k])
+            b.append(Ds[r, 2] * fz[k + r0])
+    n_eq = n * H
+    if rest is not None:  # xs(0) = Acl xs(0) + Bs ve + Ds w(-1): at rest under the force before
+        for r in range(n):
+            for q in range(n):
+                v = (1.0 if q == r else 0.0) - Acl[r, q]
+                if v != 0.0:
+                    Ai.append(n_eq + r); Aj.append(xi(0) + q); Av.append(v)
+            for q in np.nonzero(Bs[r])[0]:
+                Ai.append(n_eq + r); Aj.append(ei + q); Av.append(-Bs[r, q])
+            for q in (0, 1):
+                if Ds[r, q] != 0.0:
+                    Ai.append(n_eq + r); Aj.append(wi(-1) + q); Av.append(-Ds[r, q])
+            b.append(Ds[r, 2] * fz[0])
+        n_eq += n
     Gi, Gj, Gv, h = [], [], [], []
     row = 0
     for k in range(k0, H + 1):  # +-xs_i(k) - t <= 0
@@ -152,17 +182,24 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
                     for c in np.nonzero(K[q])[0]:
                         Gi.append(row); Gj.append(xi(k) + c); Gv.append(sign * K[q, c])
                 h.append(lim / u_scale[q]); row += 1
-    for k in range(H):
-        r_k = float(np.hypot(*fh[k]))
+    if rest is not None:  # the equilibrium's input S_u (K xs(0) + ve) within the actuator limits
+        for q in range(nu):
+            for sign, lim in ((1.0, u_hi[q]), (-1.0, -u_lo[q])):
+                Gi.append(row); Gj.append(ei + q); Gv.append(sign)
+                for c in np.nonzero(K[q])[0]:
+                    Gi.append(row); Gj.append(xi(0) + c); Gv.append(sign * K[q, c])
+                h.append(lim / u_scale[q]); row += 1
+    for k in range(-r0, H):
+        r_k = float(np.hypot(*fh[k + r0]))
         if yaw_arc is None or r_k < 1e-12:  # w(k) = the force (as two inequalities)
             for q in (0, 1):
-                Gi.append(row); Gj.append(wi(k) + q); Gv.append(1.0); h.append(fh[k, q]); row += 1
-                Gi.append(row); Gj.append(wi(k) + q); Gv.append(-1.0); h.append(-fh[k, q]); row += 1
+                Gi.append(row); Gj.append(wi(k) + q); Gv.append(1.0); h.append(fh[k + r0, q]); row += 1
+                Gi.append(row); Gj.append(wi(k) + q); Gv.append(-1.0); h.append(-fh[k + r0, q]); row += 1
             continue
         # The arc {r (cos th, sin th): |th - a| <= psi_max} (the vehicle turned by -+psi:
         # the force turns the other way in its frame, the same arc): inside the tangents
         # at 9 points of it and beyond its chord.
-        a = float(np.arctan2(fh[k, 1], fh[k, 0]))
+        a = float(np.arctan2(fh[k + r0, 1], fh[k + r0, 0]))
         for th in np.linspace(a - yaw_arc, a + yaw_arc, 9):
             Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [np.cos(th), np.sin(th)]; h.append(r_k); row += 1
         Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [-np.cos(a), -np.sin(a)]
@@ -172,7 +209,7 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt):
     sp = lambda v, i, j, shape: spmatrix([float(x) for x in v], [int(x) for x in i], [int(x) for x in j], shape)
     col = lambda v: matrix([float(x) for x in v])
     solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF"}
-    sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n * H, nz)), col(b), solver="glpk")
+    sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n_eq, nz)), col(b), solver="glpk")
     if sol["status"] != "optimal":
         raise RuntimeError(f"LP: {sol['status']} (GLPK's simplex)")
     z = np.array(sol["x"]).ravel()
@@ -206,8 +243,9 @@ def read_forces(path):
     return data
 
 
-def best_case_window(model, forces, window, yaw_free=False, static_tilt=False):
-    """Over [T0, T1) of a force series, x(T0) free in the scaled box: the peak's lower bound."""
+def best_case_window(model, forces, window, yaw_free=False, static_tilt=False, at_rest=False):
+    """Over [T0, T1) of a force series, x(T0) free in the scaled box (at_rest: at rest under
+    the force of the period before T0): the peak's lower bound."""
     T = model["discrete"]["sample_time"]
     step = forces[1, 0] - forces[0, 0]
     if abs(step - T) > 1e-9 * T:
@@ -216,15 +254,18 @@ def best_case_window(model, forces, window, yaw_free=False, static_tilt=False):
     if not (0 <= k0 < k1 <= forces.shape[0]):
         raise ValueError(f"--window {window[0]} {window[1]}: outside the series' "
                          f"{forces[0, 0]} to {forces[-1, 0] + T} s, or empty")
-    seg = forces[k0:k1]
+    before = max(k0 - 1, 0)  # at rest: under the force of the period before the window
+    seg = forces[before:k1]
     c, s = np.cos(seg[:, 4]), np.sin(seg[:, 4])  # world -> the reference's heading frame
     horizontal = np.column_stack([c * seg[:, 1] + s * seg[:, 2], -s * seg[:, 1] + c * seg[:, 2]])
+    rest = (horizontal[0], seg[0, 3]) if at_rest else None
+    horizontal, seg = horizontal[k0 - before:], seg[k0 - before:]
     psi_max = None
     if yaw_free:
         psi_max = float(model["matrices"]["state_error_max"][model["matrices"]["state_names"].index("psi")])
-    t, state, when = _lp(model, seg[:, 3], horizontal, True, psi_max, static_tilt)
+    t, state, when = _lp(model, seg[:, 3], horizontal, True, psi_max, static_tilt, rest)
     return {"peak": t, "binding_state": state, "binding_time": forces[k0, 0] + when, "window": list(window),
-            "yaw_free": yaw_free, "static_tilt": static_tilt, "vehicle": model.get("vehicle", {})}
+            "yaw_free": yaw_free, "static_tilt": static_tilt, "at_rest": at_rest, "vehicle": model.get("vehicle", {})}
 
 
 def main():
@@ -236,12 +277,14 @@ def main():
     ap.add_argument("--window", nargs=2, type=float, metavar=("T0", "T1"), help="s of the series (with --forces)")
     ap.add_argument("--yaw-free", action="store_true", help="with --forces: the vehicle may turn within psi's bound")
     ap.add_argument("--static-tilt", action="store_true", help="with --forces: the force scaled to the true static tilt")
+    ap.add_argument("--at-rest", action="store_true",
+                    help="with --forces: the window starts at rest under the force before it")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
     if (a.forces is None) != (a.window is None):
         sys.exit("--forces and --window go together")
-    if a.forces is None and (a.yaw_free or a.static_tilt):
-        sys.exit("--yaw-free and --static-tilt need --forces")
+    if a.forces is None and (a.yaw_free or a.static_tilt or a.at_rest):
+        sys.exit("--yaw-free, --static-tilt and --at-rest need --forces")
     with open(a.model) as fh:
         model = json.load(fh)
     if "matrices" not in model:
@@ -250,7 +293,7 @@ def main():
         if a.forces is None:
             r = best_case_peak(model, a.force, a.horizon)
         else:
-            r = best_case_window(model, read_forces(a.forces), a.window, a.yaw_free, a.static_tilt)
+            r = best_case_window(model, read_forces(a.forces), a.window, a.yaw_free, a.static_tilt, a.at_rest)
     except (ValueError, RuntimeError) as e:
         sys.exit(str(e))
     if a.json:
@@ -259,7 +302,8 @@ def main():
         print(f"best case after a {r['force']} N step over {r['horizon_s']:.2f} s: peak {r['peak']:.4f} of the "
               f"bounds (binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
     else:
-        how = ("yaw free" if a.yaw_free else "yaw held") + (", static tilt calibrated" if a.static_tilt else "")
+        how = ("yaw free" if a.yaw_free else "yaw held") + (", static tilt calibrated" if a.static_tilt else "") + \
+            (", from rest" if a.at_rest else "")
         print(f"best case over {a.window[0]} to {a.window[1]} s ({how}): peak {r['peak']:.4f} of the bounds "
               f"(binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
 
