@@ -413,10 +413,10 @@ elif check == "robustness-sweep":
 elif check == "best-case-gust":
     # README "What this does not reach": the shipped gusts scenario (seed 3) over 66 to
     # 72 s, where its static tilt leaves the box at the reference's yaw. Even knowing the
-    # gust in advance, a controller that holds the yaw leaves the box (1.10); one that
-    # may turn stays inside (0.795). Without the preview, from rest at the gust's redraw
-    # at 64 s (over 64 to 70 s, the yaw free): 0.770. On the linear model calibrated to
-    # the static tilt.
+    # gust in advance, a controller that holds the yaw leaves the box (1.10); for one that
+    # may turn the lower bound stays inside (0.795). Without the preview, from rest at the
+    # gust's redraw at 64 s (over 64 to 70 s, the yaw free): 0.770. On the linear model
+    # calibrated to the static tilt.
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "best_case_peak.py")
     art = design_quick()
     series = os.path.join(scratch, "gusts.csv")
