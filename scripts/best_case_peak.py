@@ -43,10 +43,11 @@ window from below for every controller whose errors stay inside the box before i
   --at-rest    x(0) at rest under the force of the period before the window (its first
                period's when the window starts the series), the best such equilibrium
                (its positions and, with --yaw-free, its yaw free): a controller that
-               had settled and learns the force only from T0 on. For a window that starts at an event (a step, a gust's redraw: from then on the
-               gust follows its first-order lag to the new command, which a controller
-               that knows the gust's model reads within a period or two), t* is the best
-               case without preview of the event.
+               had settled and learns the force only from T0 on. For a window that
+               starts at an event (a step, a gust's redraw: from then on the gust follows
+               its first-order lag to the new command, which a controller that knows the
+               gust's model reads within a period or two), t* is the best case without
+               preview of the event.
 """
 import argparse
 import json
