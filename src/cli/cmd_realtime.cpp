@@ -205,6 +205,7 @@ void run_hil(const RtCli& o) {
   j["busy_periods"] = cs.busy;
   j["skipped_periods"] = cs.skipped;
   j["fallback_periods"] = cs.fallback_periods;
+  j["reverted_periods"] = cs.reverted_periods;
   j["safe_periods"] = cs.safe_periods;
   j["clipped_periods"] = cs.clipped_periods;
   j["solve_us"] = {{"p50", cs.solve_p50_us}, {"max", cs.solve_max_us}};

@@ -60,6 +60,9 @@ void print_metrics(const MissionMetrics& r) {
   std::printf("\n  periods %ld, fallbacks %ld, clipped %ld, state-constraint violations %ld, tube exits %ld%s\n",
               r.periods, r.fallback_periods, r.clipped_periods, r.state_constraint_violations, r.tube_exits,
               r.diverged ? ", DIVERGED" : "");
+  if (r.reverted_periods > 0) {
+    std::printf("  reverted to the tube gain's unconstrained law (tube_law.revert_beyond) in %ld of the fallback periods\n", r.reverted_periods);
+  }
   std::printf("  solve time us: min %.1f, median %.1f, p99 %.1f, max %.1f; iterations mean %.1f, max %d\n",
               r.solve_min, r.solve_p50, r.solve_p99, r.solve_max, r.iterations_mean, r.iterations_max);
   if (r.state_constraint_violations > 0) {

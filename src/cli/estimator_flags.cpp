@@ -23,6 +23,15 @@ void add_estimator_flags(CLI::App* sub, EstimatorChoice& e) {
          "a disturbance step keeps the vertical force's steady covariance (default: a step the filter's innovations do "
          "not classify as a horizontal force, a rotor's thrust loss, re-opens the lift too; runtime/tube_controller.hpp)")
       ->excludes(no_steps);
+  sub->add_option("--revert-beyond", e.revert_beyond,
+                  "past this many times a state's bound (> 1), the tube gain's unconstrained law flies until every state is "
+                  "back within --revert-within times its bound; 0: never (default: the artifact's tube_law.revert_beyond; "
+                  "runtime/tube_controller.hpp)")
+      ->check(CLI::Range(0.0, 1e6));
+  sub->add_option("--revert-within", e.revert_within,
+                  "the MPC law again once every state is within this many times its bound (default: the artifact's "
+                  "tube_law.revert_within)")
+      ->check(CLI::Range(1.0, 1e6));
 }
 
 }  // namespace tmpc::cli

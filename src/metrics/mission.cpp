@@ -170,6 +170,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     mm.iterations_mean += s.iterations;
     mm.iterations_max = std::max(mm.iterations_max, s.iterations);
     mm.fallback_periods += s.fallback;
+    mm.reverted_periods += s.reverted;
     mm.clipped_periods += s.clipped;
     const Eigen::VectorXd ratio = a.N_x.cwiseProduct(judged).cwiseAbs();  // X is the unit box
     Eigen::Index vw = 0;
@@ -264,6 +265,7 @@ std::string metrics_json(const MissionMetrics& m) {
   j["periods"] = m.periods;
   j["deadline_misses"] = m.deadline_misses;
   j["fallback_periods"] = m.fallback_periods;
+  j["reverted_periods"] = m.reverted_periods;
   j["clipped_periods"] = m.clipped_periods;
   j["tube_exits"] = {{"total", m.tube_exits},
                      {"window_starts", m.window_starts},

@@ -210,6 +210,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
         solve.push_back(res->solve_us);
       }
       st.fallback_periods += s.fallback;
+      st.reverted_periods += s.reverted;
       st.clipped_periods += s.clipped;
       st.softened_periods += s.softened;
       rec.softened = s.softened;

@@ -15,6 +15,8 @@ TubeControllerOptions flight_law_options(const ControllerArtifact& a, const std:
   o.innovation_gate = !e.no_innovation_gate;
   o.step_detection = !e.no_step_detection;
   o.step_reopens_lift = e.step_reopens_lift;
+  if (e.revert_beyond >= 0.0) o.revert_beyond = e.revert_beyond;
+  if (e.revert_within >= 0.0) o.revert_within = e.revert_within;
   o.validate();
   return o;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 
@@ -14,6 +15,14 @@ void TubeControllerOptions::validate() const {
   if (observer != "residual" && observer != "kalman" && observer != "switched") {
     throw std::invalid_argument("tube controller: observer must be residual, kalman or switched, got '" + observer + "'");
   }
+  if (!(revert_beyond == 0.0 || revert_beyond > 1.0)) {
+    throw std::invalid_argument("tube controller: revert_beyond must be 0 (off) or above 1 (times the state bounds), got " +
+                                std::to_string(revert_beyond));
+  }
+  if (revert_beyond > 0.0 && !(revert_within >= 1.0 && revert_within <= revert_beyond)) {
+    throw std::invalid_argument("tube controller: revert_within must be in [1, revert_beyond = " + std::to_string(revert_beyond) +
+                                "], got " + std::to_string(revert_within));
+  }
 }
 
 TubeControllerOptions tube_law_options(const ControllerArtifact& a, const std::string& law, double observer_gain,
@@ -21,6 +30,8 @@ TubeControllerOptions tube_law_options(const ControllerArtifact& a, const std::s
   TubeControllerOptions o;
   o.offset_free = a.tube_law.offset_free;
   o.observer_gain = a.tube_law.observer_gain;
+  o.revert_beyond = a.tube_law.revert_beyond;
+  o.revert_within = a.tube_law.revert_within;
   o.observer = a.switched_observer() ? "switched" : a.estimator;
   if (observer == "residual" || observer == "kalman" || observer == "switched") {
     o.observer = observer;
@@ -205,6 +216,7 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   x_s_.setZero();
   have_prev_ = false;
   prev_off_law_ = false;
+  reverted_ = false;
   if (solver_) solver_->reset();
 }
 
@@ -451,7 +463,23 @@ const ControlStep& TubeController::finish(const Eigen::VectorXd& u_r, const Solv
   out_.softened = r != nullptr && r->softened;
   out_.slack_max = out_.softened && r->slack_state >= 0 ? r->slack_max / a_.N_x(r->slack_state) : 0.0;
   out_.slack_state = out_.softened ? r->slack_state : -1;
-  const bool usable = in_time && r != nullptr && r->status == SolveStatus::Converged && r->z.allFinite();
+  // The reversion's hysteresis on the error's largest ratio to its bound in X.
+  if (opt_.revert_beyond > 0.0) {
+    double worst = x_n_.allFinite() ? 0.0 : std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < x_n_.size(); ++i) {
+      const double bound = std::max(x_n_(i) >= 0.0 ? a_.X.hi(i) : -a_.X.lo(i), 1e-300);
+      worst = std::max(worst, std::abs(x_n_(i)) / bound);
+    }
+    if (worst > opt_.revert_beyond) {  // a non-finite error reverts too
+      reverted_ = true;
+    } else if (worst <= opt_.revert_within) {
+      reverted_ = false;
+    }
+  }
+  out_.reverted = reverted_;
+  reverted_periods_ += reverted_;
+  const bool usable =
+      !reverted_ && in_time && r != nullptr && r->status == SolveStatus::Converged && r->z.allFinite();
   if (usable) {
     ub_ = r->z.head(a_.m) + u_s_;  // u_s = 0 without the observer
     u_n_ = ub_;
@@ -465,7 +493,7 @@ const ControlStep& TubeController::finish(const Eigen::VectorXd& u_r, const Solv
     // offset-free); the nominal state restarts from it.
     resid_ = x_n_ - x_s_;
     u_n_ = u_s_;
-    u_n_.noalias() += a_.K_lqr * resid_;
+    u_n_.noalias() += (reverted_ ? a_.K : a_.K_lqr) * resid_;
     out_.u_bar.setZero();
     next_.noalias() = a_.A * x_n_;
     next_.noalias() += a_.B * u_n_;

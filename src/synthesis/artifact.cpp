@@ -310,6 +310,7 @@ std::vector<std::uint8_t> serialize_artifact(const ControllerArtifact& a) {
   p.matrix("solver", (Eigen::VectorXd(2) << a.solver.admm_epsilon, a.solver.admm_eta).finished());
   p.integer("tube_law_offset_free", a.tube_law.offset_free ? 1 : 0);
   p.matrix("tube_law_observer_gain", scalar(a.tube_law.observer_gain));
+  p.matrix("tube_law_revert", (Eigen::MatrixXd(2, 1) << a.tube_law.revert_beyond, a.tube_law.revert_within).finished());
   write_link(p, a.link);
   p.matrix("sample_time", scalar(a.sample_time));
   p.matrix("N_x", a.N_x);
@@ -419,6 +420,9 @@ ControllerArtifact deserialize_artifact(const std::vector<std::uint8_t>& bytes, 
   a.solver.admm_eta = so(1);
   a.tube_law.offset_free = integer("tube_law_offset_free", 0, 1) == 1;
   a.tube_law.observer_gain = mat("tube_law_observer_gain", 1, 1)(0, 0);
+  const Eigen::MatrixXd& rv = mat("tube_law_revert", 2, 1);
+  a.tube_law.revert_beyond = rv(0);
+  a.tube_law.revert_within = rv(1);
   a.link = read_link(r);
   a.sample_time = mat("sample_time", 1, 1)(0, 0);
   a.N_x = mat("N_x", n, 1);

@@ -164,6 +164,8 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   if (!(a.solver.admm_epsilon > 0.0 && a.solver.admm_epsilon <= 1.0)) c.fail("solver", "epsilon " + Checker::num(a.solver.admm_epsilon) + " not in (0, 1]");
   if (!(a.solver.admm_eta > 0.0 && a.solver.admm_eta < 1.0)) c.fail("solver", "eta " + Checker::num(a.solver.admm_eta) + " not in (0, 1)");
   if (!(a.tube_law.observer_gain > 0.0 && a.tube_law.observer_gain <= 1.0)) c.fail("tube_law_observer_gain", "is " + Checker::num(a.tube_law.observer_gain) + ", must be in (0, 1]");
+  if (!(a.tube_law.revert_beyond == 0.0 || a.tube_law.revert_beyond > 1.0)) c.fail("tube_law_revert", "enter bound " + Checker::num(a.tube_law.revert_beyond) + " is neither 0 (off) nor above 1");
+  if (a.tube_law.revert_beyond > 0.0 && !(a.tube_law.revert_within >= 1.0 && a.tube_law.revert_within <= a.tube_law.revert_beyond)) c.fail("tube_law_revert", "leave bound " + Checker::num(a.tube_law.revert_within) + " not in [1, the enter bound]");
   if (!(a.link.plant_hold_s >= 0.0) || !(a.link.time_tolerance > 0.0) || !(a.link.bound_time > 0.0)) c.fail("link_numbers", "a hold time, tolerance or bound is not positive");
   // Sets: non-empty, the tightened ones inside theirs, the tube and W of the right size.
   c.box("X", a.X);
@@ -260,6 +262,8 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   if (a.terminal_cost != cfg.synthesis.terminal_cost) c.fail("terminal_cost", "is '" + a.terminal_cost + "', the embedded configuration's synthesis.terminal_cost is '" + cfg.synthesis.terminal_cost + "'");
   if (a.tube_law.offset_free != cfg.tube_law.offset_free) c.fail("tube_law_offset_free", "differs from the embedded configuration's tube_law.offset_free");
   c.near("tube_law_observer_gain", a.tube_law.observer_gain, cfg.tube_law.observer_gain, 1e-12, "tube_law.observer_gain");
+  c.near("tube_law_revert", a.tube_law.revert_beyond, cfg.tube_law.revert_beyond, 1e-12, "tube_law.revert_beyond");
+  c.near("tube_law_revert", a.tube_law.revert_within, cfg.tube_law.revert_within, 1e-12, "tube_law.revert_within");
   c.near("solver", a.solver.admm_epsilon, cfg.solver.admm_epsilon, 1e-12, "solver.admm_epsilon");
   if (a.link.watchdog_periods != cfg.link.watchdog_periods) c.fail("link_watchdog_periods", "differs from the embedded configuration's link.watchdog_periods");
   if (a.estimator != cfg.estimation.observer) c.fail("estimator", "is '" + a.estimator + "', the embedded configuration's estimation.observer is '" + cfg.estimation.observer + "'");

@@ -377,5 +377,19 @@ TEST(Config, EstimationAndSoftConstraintSectionsAreOptionalAndValidated) {
                "synthesis.lqr_input_scale", "must be positive");
 }
 
+// tube_law.revert_beyond / revert_within (runtime/tube_controller.hpp): the shipped
+// values are read, 0 turns the reversion off, and a bound that cannot work is refused
+// naming the key.
+TEST(Config, TheRevertBoundsAreReadAndChecked) {
+  const Config c = load_config_from_string(default_text(), "ok.yaml");
+  EXPECT_DOUBLE_EQ(c.tube_law.revert_beyond, 4.0);
+  EXPECT_DOUBLE_EQ(c.tube_law.revert_within, 1.5);
+  EXPECT_EQ(load_with("revert_beyond: 4.0", "revert_beyond: 0"), "");
+  expect_error(load_with("revert_beyond: 4.0", "revert_beyond: 0.8"), "tube_law.revert_beyond", "above 1");
+  expect_error(load_with("revert_beyond: 4.0", "revert_beyond: -2"), "tube_law.revert_beyond", "out of range");
+  expect_error(load_with("revert_within: 1.5", "revert_within: 0.5"), "tube_law.revert_within", "out of range");
+  expect_error(load_with("revert_within: 1.5", "revert_within: 6"), "tube_law.revert_within", "above revert_beyond");
+}
+
 }  // namespace
 }  // namespace tmpc

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include "../synthesis/design_fixture.hpp"
@@ -739,6 +740,61 @@ TEST(TubeController, AnInputRateWeightSmoothsTheNominalInputAgainstNoise) {
   for (std::size_t i = 0; i < rs.size(); ++i) EXPECT_NEAR(rs[i].move, measured[i], 0.1 * measured[i]) << "weight step " << i;
   for (std::size_t i = 1; i < rs.size(); ++i) EXPECT_LT(rs[i].move, 0.8 * rs[i - 1].move) << "weight step " << i;
   EXPECT_LT(rs[2].move, 0.2 * rs[0].move);
+}
+
+// The reversion past the model's region (revert_beyond): past 4 times a bound the tube
+// gain's unconstrained law flies (counted as a fallback), at 2 times it still does (the
+// hysteresis), within 1.5 times the MPC law is back. The oracle is the law's definition
+// u = u_r + N_u^-1 K x_n (Mayne's law: no steady-state shift), with the artifact's K, and
+// K_lqr's input differs (it is not the thesis' fallback).
+TEST(TubeController, PastTheRevertBoundTheTubeGainFliesUntilTheErrorIsBackWithin) {
+  const ControllerArtifact& a = artifact();
+  TubeControllerOptions o = tube_law_options(a, "mayne");
+  o.revert_beyond = 4.0;
+  o.revert_within = 1.5;
+  TubeController ctrl(a, make_solver("admm", a.qp(false)), o);
+  Eigen::VectorXd xn = Eigen::VectorXd::Zero(a.n);
+  ctrl.reset(xn.cwiseQuotient(a.N_x));
+  const int row = 3;  // a rod angle
+  struct Period {
+    double ratio;
+    bool reverted;
+  };
+  const Period periods[] = {{0.0, false}, {5.0, true}, {2.0, true}, {1.2, false}, {0.0, false}};
+  for (const Period& p : periods) {
+    xn.setZero();
+    xn(row) = p.ratio * a.X.hi(row);
+    const ControlStep& s = ctrl.step(xn.cwiseQuotient(a.N_x), a.u_eq);
+    std::printf("error at %.1f of its bound: reverted %d, fallback %d\n", p.ratio, s.reverted, s.fallback);
+    EXPECT_EQ(s.reverted, p.reverted) << p.ratio;
+    if (!p.reverted) continue;
+    EXPECT_TRUE(s.fallback) << p.ratio;
+    const Eigen::VectorXd tube = a.u_eq + (a.K * xn).cwiseQuotient(a.N_u);
+    const Eigen::VectorXd lqr = a.u_eq + (a.K_lqr * xn).cwiseQuotient(a.N_u);
+    const Eigen::VectorXd lo = a.input_min, hi = a.input_max;
+    EXPECT_LT((s.u - tube.cwiseMax(lo).cwiseMin(hi)).cwiseAbs().maxCoeff(), 1e-9) << p.ratio;
+    EXPECT_GT((tube - lqr).cwiseAbs().maxCoeff(), 1e-3) << p.ratio;
+  }
+  EXPECT_EQ(ctrl.reverted_count(), 2);
+  // A non-finite error reverts as well (the solver's own check would hand it to K_lqr).
+  xn.setZero();
+  xn(row) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(ctrl.step(xn.cwiseQuotient(a.N_x), a.u_eq).reverted);
+  // Off (0) never reverts, and the bounds are checked.
+  o.revert_beyond = 0.0;
+  TubeController off(a, make_solver("admm", a.qp(false)), o);
+  xn.setZero();
+  off.reset(xn);
+  xn(row) = 5.0 * a.X.hi(row);
+  EXPECT_FALSE(off.step(xn.cwiseQuotient(a.N_x), a.u_eq).reverted);
+  TubeControllerOptions bad = o;
+  bad.revert_beyond = 0.8;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
+  bad.revert_beyond = 4.0;
+  bad.revert_within = 5.0;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
+  bad.revert_within = 0.9;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
 }
 
 }  // namespace

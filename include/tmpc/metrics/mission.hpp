@@ -47,6 +47,7 @@ struct MissionMetrics {
   double iterations_mean = 0;
   int iterations_max = 0;
   long periods = 0, deadline_misses = 0, fallback_periods = 0, clipped_periods = 0;
+  long reverted_periods = 0;  ///< of the fallback periods: the error past the reversion bound (revert_beyond)
   long tube_exits = 0, state_constraint_violations = 0;
   /// How far the true state went outside the box: the largest |x_i| / half-width_i
   /// (above 1: a violation) and the state; 0 and "" without one.

@@ -127,6 +127,11 @@ struct SolverSettings {
 struct TubeLawSettings {
   bool offset_free = false;     // disturbance observer and steady-state targets
   double observer_gain = 0.1;   // beta in (0, 1]
+  // Reversion to the tube gain's unconstrained law past the linear model's region
+  // (runtime/tube_controller.hpp revert_beyond): enter past revert_beyond times a
+  // state's bound (0: off, else > 1), leave within revert_within (in [1, revert_beyond]).
+  double revert_beyond = 0.0;
+  double revert_within = 1.5;
 };
 
 /// State estimation (optional section `estimation`; DESIGN.md 5b): which observer the

@@ -59,6 +59,7 @@ struct ControllerLoopStats {
   long periods = 0, states = 0, optimizer_used = 0, late = 0, busy = 0, fallback_periods = 0;
   long safe_periods = 0, clipped_periods = 0, send_failures = 0;
   long softened_periods = 0;  ///< the hard QP was infeasible and the softened QP flew
+  long reverted_periods = 0;  ///< of the fallback periods: the error past the reversion bound (revert_beyond)
   long skipped = 0;   ///< period boundaries the loop slept through (woken a period late or more)
   long restarts = 0;  ///< law restarts: first state, new sessions of the plant, re-anchored tracks
   long late_wakes = 0;  ///< periods the loop woke more than half a period late (the host's scheduling)

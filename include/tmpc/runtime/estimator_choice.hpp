@@ -1,7 +1,8 @@
 // What one flight chooses of the offset-free law's estimator over the artifact's design:
 // the observer (residual, Kalman filter or switched), its gain, and the filter's
 // adaptations (the gain schedule, the glitch gate, the step detection and whether a
-// step re-opens the lift). The simulator (`tmpc simulate`) and the serial loop
+// step re-opens the lift), and the law's reversion to the LQR past the model's region
+// (tube_controller.hpp revert_beyond). The simulator (`tmpc simulate`) and the serial loop
 // (`tmpc controller`, `tmpc hil`) take the same choice, so that a flight simulated with
 // one estimator is flown on the link with that one.
 #pragma once
@@ -20,6 +21,8 @@ struct EstimatorChoice {
   bool no_innovation_gate = false;  ///< the Kalman filter: take every measurement (no glitch gate)
   bool no_step_detection = false;   ///< the Kalman filter keeps its gains at a disturbance step
   bool step_reopens_lift = true;    ///< a step not classified as horizontal re-opens the vertical force too
+  double revert_beyond = -1.0;  ///< the reversion's enter bound (tube_controller.hpp): < 0 the artifact's, 0 off
+  double revert_within = -1.0;  ///< its leave bound: < 0 the artifact's
 };
 
 /// The law's options: the artifact's tube law overridden by `tube_law` ("", "mayne" or

@@ -4,7 +4,8 @@
 //   x_bar+ = A x_bar + B u_bar(0)
 // (optionally re-initialised to the measured error when that lies in X_bar), the
 // applied input clipped to the actuator limits (counted), and the LQR fallback
-// u = u_r + N_u^-1 K_lqr x_tilde_n used when the optimizer fails or is late.
+// u = u_r + N_u^-1 K_lqr x_tilde_n used when the optimizer fails or is late (past
+// revert_beyond times the box, the tube gain's u_r + N_u^-1 K x_tilde_n: below).
 // Offset-free option (DESIGN.md section 4), an observer on the one-step residual
 // r = x_n - A x_n,prev - B u_n,prev (normalized, applied input):
 //   d_hat+ = d_hat + beta ((S D)^-1 S r - d_hat)   the disturbance (tiltrotor: the force
@@ -135,6 +136,18 @@ struct TubeControllerOptions {
   /// force on the load too (below), which reads a rotor's lost lift at once; false: the
   /// force's block keeps its steady covariance.
   bool step_reopens_lift = true;
+  /// Reversion past the linear model's region (a supervisor; off at 0): once a state of
+  /// the error (the estimate flown) is past revert_beyond times its bound in X, the tube
+  /// gain's unconstrained law u = u_s + K (x_n - x_s) flies every period, counted as a
+  /// fallback, until each state is back within revert_within times its bound; then the
+  /// MPC law again from the nominal state x_bar = x_n (hysteresis). Past the box the
+  /// softened QP spends the servos on the immediate violation and lost a sustained 4 N
+  /// force that the unconstrained law rides out; the tube gain, not K_lqr, because with
+  /// raw noisy measurements the K_lqr torques chattered the vehicle down in 26 periods
+  /// (README "Reverting past the model's region"). revert_beyond 0 or > 1, revert_within
+  /// in [1, revert_beyond].
+  double revert_beyond = 0.0;
+  double revert_within = 1.5;
   /// Throws std::invalid_argument naming the bad field.
   void validate() const;
 };
@@ -156,6 +169,7 @@ struct ControlStep {
   int iterations = 0;
   double solve_us = 0.0;
   bool fallback = false;  ///< the LQR law was applied
+  bool reverted = false;  ///< ... the tube gain's, the error past the reversion bound (revert_beyond)
   bool clipped = false;   ///< an input hit an actuator limit
   bool in_tube = true;    ///< x_tilde - x_bar inside the interval hull of Z
   double tube_ratio = 0.0;  ///< max_i |x_tilde - x_bar - c_Z|_i / radius_i (<= 1: inside)
@@ -204,6 +218,7 @@ class TubeController {
   int parameters() const { return static_cast<int>(theta_.size()); }
   long clipped_count() const { return clipped_; }
   long fallback_count() const { return fallbacks_; }
+  long reverted_count() const { return reverted_periods_; }
   /// The force components (columns of the artifact's D) a step re-opens (above); empty
   /// without step detection or step_reopens_lift.
   const std::vector<Eigen::Index>& step_reopened_forces() const { return reopened_forces_; }
@@ -289,7 +304,8 @@ class TubeController {
   bool gate_have_prev_ = false;      ///< gate_prev_innov_ is last period's
   Eigen::VectorXd u_min_, u_max_;
   ControlStep out_;
-  long clipped_ = 0, fallbacks_ = 0;
+  long clipped_ = 0, fallbacks_ = 0, reverted_periods_ = 0;
+  bool reverted_ = false;  ///< the reversion's hysteresis state (revert_beyond)
 };
 
 }  // namespace tmpc

@@ -38,7 +38,7 @@
 
 namespace tmpc {
 
-constexpr std::uint32_t kArtifactVersion = 7;
+constexpr std::uint32_t kArtifactVersion = 8;
 
 /// Every artifact read or write error (the record container's error type).
 using ArtifactError = RecordFileError;
