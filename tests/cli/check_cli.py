@@ -149,6 +149,14 @@ elif check == "preflight":
     p = run("simulate", "--controller", art, "--scenario", fast, "--out", os.path.join(scratch, "fast"), expect_rc=None)
     need(p.returncode != 0 and "refused before take-off" in p.stderr, f"simulate flew it: {p.returncode} {p.stderr}")
     need(not os.path.exists(os.path.join(scratch, "fast", "metrics.json")), "a refused flight left metrics")
+    # The law's reversion bounds (--revert-beyond, --revert-within) are checked before
+    # take-off, naming the bound and its range.
+    for flags, what in ((["--revert-beyond", "0.5"], "revert_beyond must be 0 (off) or above 1"),
+                        (["--revert-within", "5"], "revert_within must be in [1, revert_beyond = 4")):
+        out = os.path.join(scratch, "revert")
+        p = run("simulate", "--controller", art, "--duration", "0.1", "--out", out, *flags, expect_rc=None)
+        need(0 < p.returncode < 128 and what in p.stderr, f"{flags}: {p.returncode} {p.stderr}")
+        need(not os.path.exists(os.path.join(out, "metrics.json")), f"{flags}: a refused flight left metrics")
 elif check == "best-case":
     # scripts/best_case_peak.py: the smallest peak any controller reaches after the
     # thesis' 1 N x step, on the linearized plant of a Monte Carlo draw (README "Mass

@@ -369,6 +369,11 @@ TEST(Scenarios, TheGaussianOutputFeedbackTubeFliesTheNoiseAndIsTighterUnderForce
   EXPECT_EQ(held.fallback_periods, held.reverted_periods);
   EXPECT_NEAR(static_cast<double>(held.reverted_periods), 82.0, 0.1 * 82.0);
   EXPECT_NEAR(static_cast<double>(held.state_constraint_violations), 5827.0, 0.05 * 5827.0);
+  MissionOptions never;
+  never.estimator.revert_beyond = 0.0;
+  const MissionMetrics lost = run_mission(a, test::shipped_scenario("sustained_force"), never);
+  EXPECT_TRUE(lost.diverged);
+  EXPECT_NEAR(static_cast<double>(lost.periods), 1045.0, 0.1 * 1045.0);  // 12.5 s
 }
 
 // README "Noisy sensors": the targets beyond issue 19's, twice the noise and 2 N gusts,
@@ -474,6 +479,7 @@ TEST(Scenarios, TwiceTheNoiseAndTwoNewtonGustsAreFlownAndReported) {
   // 1645 periods, no other fallback (K_lqr there lost the vehicle in 26 periods).
   EXPECT_EQ(raw.fallback_periods, raw.reverted_periods);
   EXPECT_NEAR(static_cast<double>(raw.reverted_periods), 1645.0, 0.1 * 1645.0);
+  EXPECT_NEAR(raw.violation_max_ratio, 9.99, 0.02 * 9.99);  // a servo rate, at the simulator's 10
   expect_softened_flight(fly("gusts_2n"), 1312.0, 1414.0);
 }
 
@@ -668,6 +674,14 @@ TEST(Scenarios, SustainedForcesUpToThreeAndAHalfNewtonsAreFlownToTheEnd) {
     EXPECT_EQ(m.filtered_periods, 7);  // the first check only
     EXPECT_LT(m.noise_level_max, 0.025);  // below residual_below: far from filter_above
     EXPECT_NEAR(m.rmse[2], c.z_rmse, 0.05 * c.z_rmse);
+    if (c.reverted > 0) {  // without the reversion: softened to the end, z RMSE 0.0082 m
+      MissionOptions never;
+      never.estimator.revert_beyond = 0.0;
+      const MissionMetrics soft = run_mission(test::artifact(), sc, never);
+      EXPECT_FALSE(soft.diverged);
+      EXPECT_EQ(soft.fallback_periods, 0);
+      EXPECT_NEAR(soft.rmse[2], 0.0082, 0.05 * 0.0082);
+    }
   }
 }
 

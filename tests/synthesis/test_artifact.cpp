@@ -138,6 +138,21 @@ TEST(ArtifactSemantics, DimensionsTheRuntimeDoesNotSupportAreRefused) {
       << check_error(a);
 }
 
+// The law's reversion bounds (tube_law.revert_beyond, revert_within): 0 or above 1, the
+// leave bound in [1, the enter bound], and as the embedded configuration says.
+TEST(ArtifactSemantics, TheReversionBoundsAreChecked) {
+  ControllerArtifact a = good();
+  ASSERT_DOUBLE_EQ(a.tube_law.revert_beyond, 4.0);
+  a.tube_law.revert_beyond = 0.5;
+  expect_refused(a, "tube_law_revert", "neither 0 (off) nor above 1");
+  a = good();
+  a.tube_law.revert_within = 6.0;
+  expect_refused(a, "tube_law_revert", "not in [1, the enter bound]");
+  a = good();
+  a.tube_law.revert_beyond = 0.0;  // valid, but not what the embedded configuration says
+  expect_refused(a, "tube_law_revert", "tube_law.revert_beyond");
+}
+
 TEST(ArtifactSemantics, GainsThatDoNotStabilizeAreRefused) {
   ControllerArtifact a = good();
   a.K *= 100.0;
