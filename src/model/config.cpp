@@ -288,15 +288,13 @@ Config parse(const YAML::Node& root_node, const std::string& source) {
     Section s = root.section("tube_law");
     c.tube_law.offset_free = s.flag("offset_free");
     c.tube_law.observer_gain = s.number_in("observer_gain", 1e-6, 1.0);
-    if (s.has("revert_beyond")) {
-      c.tube_law.revert_beyond = s.number_in("revert_beyond", 0.0, 1e6);
-      if (c.tube_law.revert_beyond > 0.0 && c.tube_law.revert_beyond <= 1.0) {
-        s.fail(s.key("revert_beyond"), "must be 0 (off) or above 1 (times the state bounds), got " +
-                                           std::to_string(c.tube_law.revert_beyond));
-      }
-    }
+    if (s.has("revert_beyond")) c.tube_law.revert_beyond = s.number_in("revert_beyond", 0.0, 1e6);
     if (s.has("revert_within")) c.tube_law.revert_within = s.number_in("revert_within", 1.0, 1e6);
-    if (c.tube_law.revert_beyond > 0.0 && c.tube_law.revert_within > c.tube_law.revert_beyond) {
+    if (!c.tube_law.revert_beyond_valid()) {
+      s.fail(s.key("revert_beyond"), "must be 0 (off) or above 1 (times the state bounds), got " +
+                                         std::to_string(c.tube_law.revert_beyond));
+    }
+    if (!c.tube_law.revert_within_valid()) {  // revert_within >= 1 above: it exceeds revert_beyond
       s.fail(s.key("revert_within"), "is above revert_beyond (" + std::to_string(c.tube_law.revert_beyond) + ")");
     }
     s.finish();

@@ -15,11 +15,12 @@ void TubeControllerOptions::validate() const {
   if (observer != "residual" && observer != "kalman" && observer != "switched") {
     throw std::invalid_argument("tube controller: observer must be residual, kalman or switched, got '" + observer + "'");
   }
-  if (!(revert_beyond == 0.0 || revert_beyond > 1.0)) {
+  const TubeLawSettings revert{false, 0.1, revert_beyond, revert_within};
+  if (!revert.revert_beyond_valid()) {
     throw std::invalid_argument("tube controller: revert_beyond must be 0 (off) or above 1 (times the state bounds), got " +
                                 std::to_string(revert_beyond));
   }
-  if (revert_beyond > 0.0 && !(revert_within >= 1.0 && revert_within <= revert_beyond)) {
+  if (!revert.revert_within_valid()) {
     throw std::invalid_argument("tube controller: revert_within must be in [1, revert_beyond = " + std::to_string(revert_beyond) +
                                 "], got " + std::to_string(revert_within));
   }

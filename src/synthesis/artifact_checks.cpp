@@ -164,8 +164,8 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   if (!(a.solver.admm_epsilon > 0.0 && a.solver.admm_epsilon <= 1.0)) c.fail("solver", "epsilon " + Checker::num(a.solver.admm_epsilon) + " not in (0, 1]");
   if (!(a.solver.admm_eta > 0.0 && a.solver.admm_eta < 1.0)) c.fail("solver", "eta " + Checker::num(a.solver.admm_eta) + " not in (0, 1)");
   if (!(a.tube_law.observer_gain > 0.0 && a.tube_law.observer_gain <= 1.0)) c.fail("tube_law_observer_gain", "is " + Checker::num(a.tube_law.observer_gain) + ", must be in (0, 1]");
-  if (!(a.tube_law.revert_beyond == 0.0 || a.tube_law.revert_beyond > 1.0)) c.fail("tube_law_revert", "enter bound " + Checker::num(a.tube_law.revert_beyond) + " is neither 0 (off) nor above 1");
-  if (a.tube_law.revert_beyond > 0.0 && !(a.tube_law.revert_within >= 1.0 && a.tube_law.revert_within <= a.tube_law.revert_beyond)) c.fail("tube_law_revert", "leave bound " + Checker::num(a.tube_law.revert_within) + " not in [1, the enter bound]");
+  if (!a.tube_law.revert_beyond_valid()) c.fail("tube_law_revert", "enter bound " + Checker::num(a.tube_law.revert_beyond) + " is neither 0 (off) nor above 1");
+  if (a.tube_law.revert_beyond_valid() && !a.tube_law.revert_within_valid()) c.fail("tube_law_revert", "leave bound " + Checker::num(a.tube_law.revert_within) + " not in [1, the enter bound]");
   if (!(a.link.plant_hold_s >= 0.0) || !(a.link.time_tolerance > 0.0) || !(a.link.bound_time > 0.0)) c.fail("link_numbers", "a hold time, tolerance or bound is not positive");
   // Sets: non-empty, the tightened ones inside theirs, the tube and W of the right size.
   c.box("X", a.X);

@@ -132,6 +132,10 @@ struct TubeLawSettings {
   // state's bound (0: off, else > 1), leave within revert_within (in [1, revert_beyond]).
   double revert_beyond = 0.0;
   double revert_within = 1.5;
+  bool revert_beyond_valid() const { return revert_beyond == 0.0 || revert_beyond > 1.0; }
+  bool revert_within_valid() const {
+    return revert_beyond == 0.0 || (revert_within >= 1.0 && revert_within <= revert_beyond);
+  }
 };
 
 /// State estimation (optional section `estimation`; DESIGN.md 5b): which observer the

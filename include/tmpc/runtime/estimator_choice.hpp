@@ -1,8 +1,8 @@
 // What one flight chooses of the offset-free law's estimator over the artifact's design:
 // the observer (residual, Kalman filter or switched), its gain, and the filter's
 // adaptations (the gain schedule, the glitch gate, the step detection and whether a
-// step re-opens the lift), and the law's reversion to the LQR past the model's region
-// (tube_controller.hpp revert_beyond). The simulator (`tmpc simulate`) and the serial loop
+// step re-opens the lift), and the law's reversion to the tube gain's unconstrained law
+// past the model's region (tube_controller.hpp revert_beyond). The simulator (`tmpc simulate`) and the serial loop
 // (`tmpc controller`, `tmpc hil`) take the same choice, so that a flight simulated with
 // one estimator is flown on the link with that one.
 #pragma once

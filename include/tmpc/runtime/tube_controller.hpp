@@ -169,7 +169,7 @@ struct ControlStep {
   int iterations = 0;
   double solve_us = 0.0;
   bool fallback = false;  ///< the LQR law was applied
-  bool reverted = false;  ///< ... the tube gain's, the error past the reversion bound (revert_beyond)
+  bool reverted = false;  ///< a fallback of the reversion: the tube gain's law, the error past revert_beyond
   bool clipped = false;   ///< an input hit an actuator limit
   bool in_tube = true;    ///< x_tilde - x_bar inside the interval hull of Z
   double tube_ratio = 0.0;  ///< max_i |x_tilde - x_bar - c_Z|_i / radius_i (<= 1: inside)
