@@ -36,4 +36,16 @@ inline MissionMetrics fly_residual_observer(const char* name) {
   return m;
 }
 
+/// A scenario flown without the law's reversion past the model's region
+/// (`--revert-beyond 0`: the softened MPC or the LQR fallback alone), printed like fly().
+inline MissionMetrics fly_unreverted(const Scenario& sc, const ControllerArtifact& a = artifact()) {
+  MissionOptions o;
+  o.estimator.revert_beyond = 0.0;
+  const MissionMetrics m = run_mission(a, sc, o);
+  std::printf("without the reversion: RMSE %.3g %.3g %.3g, %ld periods, violations %ld, fallbacks %ld%s\n", m.rmse[0],
+              m.rmse[1], m.rmse[2], m.periods, m.state_constraint_violations, m.fallback_periods,
+              m.diverged ? ", DIVERGED" : "");
+  return m;
+}
+
 }  // namespace tmpc::test

@@ -369,9 +369,7 @@ TEST(Scenarios, TheGaussianOutputFeedbackTubeFliesTheNoiseAndIsTighterUnderForce
   EXPECT_EQ(held.fallback_periods, held.reverted_periods);
   EXPECT_NEAR(static_cast<double>(held.reverted_periods), 82.0, 0.1 * 82.0);
   EXPECT_NEAR(static_cast<double>(held.state_constraint_violations), 5827.0, 0.05 * 5827.0);
-  MissionOptions never;
-  never.estimator.revert_beyond = 0.0;
-  const MissionMetrics lost = run_mission(a, test::shipped_scenario("sustained_force"), never);
+  const MissionMetrics lost = test::fly_unreverted(test::shipped_scenario("sustained_force"), a);
   EXPECT_TRUE(lost.diverged);
   EXPECT_NEAR(static_cast<double>(lost.periods), 1045.0, 0.1 * 1045.0);  // 12.5 s
 }
@@ -525,9 +523,7 @@ TEST(Scenarios, ASustainedFourNewtonForceIsPastTheEnvelope) {
   EXPECT_EQ(shipped.fallback_periods, shipped.reverted_periods);
   EXPECT_NEAR(static_cast<double>(shipped.reverted_periods), 90.0, 0.1 * 90.0);
   EXPECT_NEAR(static_cast<double>(shipped.state_constraint_violations), 5831.0, 0.05 * 5831.0);
-  MissionOptions never;
-  never.estimator.revert_beyond = 0.0;
-  const MissionMetrics unreverted = run_mission(test::artifact(), test::shipped_scenario("sustained_force_4n"), never);
+  const MissionMetrics unreverted = test::fly_unreverted(test::shipped_scenario("sustained_force_4n"));
   EXPECT_TRUE(unreverted.diverged);
   EXPECT_NEAR(static_cast<double>(unreverted.periods), 896.0, 25.0);  // 10.75 s
   EXPECT_EQ(unreverted.reverted_periods, 0);
@@ -675,9 +671,7 @@ TEST(Scenarios, SustainedForcesUpToThreeAndAHalfNewtonsAreFlownToTheEnd) {
     EXPECT_LT(m.noise_level_max, 0.025);  // below residual_below: far from filter_above
     EXPECT_NEAR(m.rmse[2], c.z_rmse, 0.05 * c.z_rmse);
     if (c.reverted > 0) {  // without the reversion: softened to the end, z RMSE 0.0082 m
-      MissionOptions never;
-      never.estimator.revert_beyond = 0.0;
-      const MissionMetrics soft = run_mission(test::artifact(), sc, never);
+      const MissionMetrics soft = test::fly_unreverted(sc);
       EXPECT_FALSE(soft.diverged);
       EXPECT_EQ(soft.fallback_periods, 0);
       EXPECT_NEAR(soft.rmse[2], 0.0082, 0.05 * 0.0082);
