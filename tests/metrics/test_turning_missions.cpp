@@ -4,6 +4,7 @@
 // the whole mission turns about the vertical, so a mission turned by an angle, its yaw
 // and its forces with it, must fly with the same errors (in the reference's yaw frame)
 // and the same inputs as the mission it turns.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -133,6 +134,36 @@ TEST(TurningMissions, YawingIntoTheForceFliesTheGustsWithFewerViolations) {
   EXPECT_NEAR(t.rmse[0], 0.0375, 0.02 * 0.0375);  // README, in the turned frame
   EXPECT_NEAR(t.rmse[1], 0.0248, 0.02 * 0.0248);
   EXPECT_NEAR(t.rmse[2], 0.0021, 0.05 * 0.0021);
+}
+
+/// README "Yawing into the force": the gust seeds 1 to 11 with the thesis' steps, each
+/// seed's violations holding the yaw and yawing into the force (the table's two rows).
+constexpr long kSeedsHeld[11] = {568, 613, 763, 20, 0, 387, 0, 488, 0, 34, 543};
+constexpr long kSeedsTurned[11] = {109, 0, 133, 0, 0, 455, 0, 72, 0, 29, 36};
+
+/// Flies the eleven seeds and checks each against its column (5 %, and 3 periods for
+/// the small ones: a zero must stay zero) and the row's total.
+void expect_seed_row(bool governed, const long (&row)[11], long total) {
+  long sum = 0;
+  for (int seed = 1; seed <= 11; ++seed) {
+    const long readme = row[seed - 1];
+    const long v = fly_turning(gust_seed(seed), governed).state_constraint_violations;
+    if (readme == 0) {
+      EXPECT_EQ(v, 0) << "gust seed " << seed;
+    } else {
+      EXPECT_NEAR(static_cast<double>(v), static_cast<double>(readme), std::max(3.0, 0.05 * readme)) << "gust seed " << seed;
+    }
+    sum += v;
+  }
+  EXPECT_NEAR(static_cast<double>(sum), static_cast<double>(total), 0.03 * total) << "README states " << total;
+}
+
+TEST(TurningMissions, TheElevenGustSeedsHoldingTheYawAsTheReadmeTabulatesThem) {
+  expect_seed_row(false, kSeedsHeld, 3416);
+}
+
+TEST(TurningMissions, TheElevenGustSeedsYawingIntoTheForceAsTheReadmeTabulatesThem) {
+  expect_seed_row(true, kSeedsTurned, 834);
 }
 
 }  // namespace
