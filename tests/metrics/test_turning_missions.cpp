@@ -158,6 +158,14 @@ void expect_seed_row(bool governed, const long (&row)[11], long total) {
   EXPECT_NEAR(static_cast<double>(sum), static_cast<double>(total), 0.03 * total) << "README states " << total;
 }
 
+TEST(TurningMissions, YawingIntoTheForceKeepsTheNoiseAndTheGustsAloneCleanAndCutsTheTwoNewtonGusts) {
+  // README "Yawing into the force": `noisy_sensors` and `gusts_only` keep zero
+  // violations; `gusts_2n` goes from 1312 (held) to 1043.
+  EXPECT_EQ(fly_turning(test::shipped_scenario("noisy_sensors"), true).state_constraint_violations, 0);
+  EXPECT_EQ(fly_turning(test::shipped_scenario("gusts_only"), true).state_constraint_violations, 0);
+  expect_count(fly_turning(test::shipped_scenario("gusts_2n"), true), 1043);
+}
+
 TEST(TurningMissions, TheElevenGustSeedsHoldingTheYawAsTheReadmeTabulatesThem) {
   expect_seed_row(false, kSeedsHeld, 3416);
 }
