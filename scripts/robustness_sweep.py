@@ -16,7 +16,8 @@ Draws --count combinations (without repeats, in a seeded order) of
 writes each as a scenario file into OUT/scenarios, flies it with `tmpc simulate` (the
 arguments of --args appended) and prints one row per flight: violations, the worst state
 over its bound, the servo-rate peak, fallbacks, softened periods, RMSE, steps read by the
-filter (in brackets those that re-opened the lift), aborted; then the totals. The seeds of the gusts and the noise follow the row.
+filter (in brackets those that re-opened the lift), aborted; then the totals per class (no
+noise, noise without the fault, noise and the fault) and over all. The seeds of the gusts and the noise follow the row.
 Exit status 0 when every flight ran (aborted flights are reported, not errors).
 """
 import argparse
@@ -78,6 +79,24 @@ def fly(tmpc, controller, path, out, extra):
         return json.load(f)
 
 
+def new_totals():
+    return {"flights": 0, "violations": 0, "fallbacks": 0, "softened": 0, "aborted": 0, "clean": 0,
+            "worst": 0.0, "worst_state": ""}
+
+
+def add(t, m):
+    """One flight's metrics into a class's totals (its worst state over its bound too)."""
+    t["flights"] += 1
+    t["violations"] += m["state_constraint_violations"]
+    t["fallbacks"] += m["fallback_periods"]
+    t["softened"] += m["softened"]["periods"]
+    t["aborted"] += bool(m["diverged"])
+    t["clean"] += m["state_constraint_violations"] == 0 and not m["diverged"]
+    if m["state_constraint_violations"] > 0 and m["violation"]["max_ratio"] > t["worst"]:
+        t["worst"] = m["violation"]["max_ratio"]
+        t["worst_state"] = m["violation"]["worst_state"]
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--controller", required=True)
@@ -108,8 +127,8 @@ def main():
     print("| flight | violations | worst state (x bound) | servo-rate peak | fallbacks | softened | "
           "RMSE x, y, z (m) | steps read (lift re-opened) | aborted |")
     print("|---|---|---|---|---|---|---|---|---|")
-    totals = {"violations": 0, "fallbacks": 0, "softened": 0, "aborted": 0, "clean": 0}
-    for (name, _), m in zip(flights, results):
+    classes = {}  # the README's classes: no noise, noise without the fault, noise and the fault
+    for (name, _), (_, _, noise, _, fault), m in zip(flights, combos, results):
         servo = max(m["box_peak_ratio"].get(s, 0.0) for s in SERVO_RATES)
         worst = m["violation"]
         r = m["rmse"]
@@ -118,13 +137,21 @@ def main():
               f"{r['x']:.3f}, {r['y']:.3f}, {r['z']:.3f} | {m['observer']['step_detections']} "
               f"({m['observer'].get('step_lift_reopenings', 0)}) | "
               f"{'yes' if m['diverged'] else 'no'} |")
-        totals["violations"] += m["state_constraint_violations"]
-        totals["fallbacks"] += m["fallback_periods"]
-        totals["softened"] += m["softened"]["periods"]
-        totals["aborted"] += bool(m["diverged"])
-        totals["clean"] += m["state_constraint_violations"] == 0 and not m["diverged"]
-    print(f"\n{len(flights)} flights: {totals['clean']} without a violation, {totals['violations']} violations, "
-          f"{totals['fallbacks']} fallback and {totals['softened']} softened periods, {totals['aborted']} aborted")
+        label = "no noise" if noise == 0.0 else "noise, no fault" if FAULTS[fault] is None else "noise and the rotor fault"
+        for key in (label, "all"):
+            add(classes.setdefault(key, new_totals()), m)
+    print("\n| flights | without a violation | violations | worst state (x bound) | fallbacks | softened | aborted |")
+    print("|---|---|---|---|---|---|---|")
+    for label in ("no noise", "noise, no fault", "noise and the rotor fault", "all"):
+        if label not in classes:
+            continue
+        t = classes[label]
+        worst = f"{t['worst']:.2f} ({t['worst_state']})" if t["worst_state"] else "-"
+        print(f"| {label} ({t['flights']}) | {t['clean']} | {t['violations']} | {worst} | {t['fallbacks']} | "
+              f"{t['softened']} | {t['aborted']} |")
+    t = classes["all"]
+    print(f"\n{len(flights)} flights: {t['clean']} without a violation, {t['violations']} violations, "
+          f"{t['fallbacks']} fallback and {t['softened']} softened periods, {t['aborted']} aborted")
     return 0
 
 

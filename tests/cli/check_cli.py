@@ -411,6 +411,15 @@ elif check == "robustness-sweep":
     rows = [line for line in p.stdout.splitlines() if line.startswith("| s0")]
     need(len(rows) == 3, f"3 flights, {len(rows)} rows:\n{p.stdout}")
     need(re.search(r"^3 flights: \d+ without a violation", p.stdout, re.M) is not None, f"no totals:\n{p.stdout}")
+    # The per-class table: its classes partition the flights and their violations.
+    classes = {c: (int(n), int(v)) for c, n, v in re.findall(
+        r"^\| (no noise|noise, no fault|noise and the rotor fault|all) \((\d+)\) \| \d+ \| (\d+) \|", p.stdout, re.M)}
+    total = re.search(r"^3 flights: \d+ without a violation, (\d+) violations", p.stdout, re.M)
+    need("all" in classes and classes["all"][0] == 3, f"no 'all' row of 3 flights:\n{p.stdout}")
+    parts = [v for c, v in classes.items() if c != "all"]
+    need(sum(n for n, _ in parts) == 3, f"the classes do not partition the 3 flights: {classes}")
+    need(total is not None and sum(v for _, v in parts) == classes.get("all", (0, -1))[1] == int(total.group(1)),
+         f"the classes' violations do not add up to the total: {classes}\n{p.stdout}")
     files = sorted(os.listdir(os.path.join(out, "scenarios")))
     need(len(files) == 3, f"scenario files {files}")
     for f in files:  # each file is a scenario tmpc reads on its own
