@@ -95,11 +95,16 @@ TEST(TurningMissions, TheHelixFlownNoseFirstAndATurnOnTheSpotAtTheRateBound) {
   EXPECT_EQ(fly_turning(p, false).state_constraint_violations, 0);
 }
 
-/// A shipped scenario with its gust's seed changed.
-Scenario gust_seed(int seed) {
+/// The shipped `gusts` scenario with its gust's seed changed (and its magnitude, N,
+/// where given).
+Scenario gust_seed(int seed, const char* magnitude = nullptr) {
   std::string text = read_config_text(test::source_dir() + "/config/scenarios/gusts.yaml");
   const std::string from = "seed: 3";
   text.replace(text.find(from), from.size(), "seed: " + std::to_string(seed));
+  if (magnitude != nullptr) {
+    const std::string m = "magnitude: 1.5";
+    text.replace(text.find(m), m.size(), std::string("magnitude: ") + magnitude);
+  }
   return scenario_from_string(text, "gusts_seed" + std::to_string(seed) + ".yaml");
 }
 
@@ -164,6 +169,15 @@ TEST(TurningMissions, YawingIntoTheForceKeepsTheNoiseAndTheGustsAloneCleanAndCut
   EXPECT_EQ(fly_turning(test::shipped_scenario("noisy_sensors"), true).state_constraint_violations, 0);
   EXPECT_EQ(fly_turning(test::shipped_scenario("gusts_only"), true).state_constraint_violations, 0);
   expect_count(fly_turning(test::shipped_scenario("gusts_2n"), true), 1043);
+}
+
+TEST(TurningMissions, HoldingTheYawTheGustsOfThreeQuartersOfANewtonAreFlownCleanInEverySeed) {
+  // README "Yawing into the force": the gust's margin with the thesis' steps, the yaw
+  // held: 0.75 N in every one of the eleven seeds without a violation (at 1 N seed 6
+  // violates, measured once).
+  for (int seed = 1; seed <= 11; ++seed) {
+    EXPECT_EQ(fly_turning(gust_seed(seed, "0.75"), false).state_constraint_violations, 0) << "gust seed " << seed;
+  }
 }
 
 TEST(TurningMissions, TheElevenGustSeedsHoldingTheYawAsTheReadmeTabulatesThem) {
