@@ -15,12 +15,11 @@ void TubeControllerOptions::validate() const {
   if (observer != "residual" && observer != "kalman" && observer != "switched") {
     throw std::invalid_argument("tube controller: observer must be residual, kalman or switched, got '" + observer + "'");
   }
-  const TubeLawSettings revert{false, 0.1, revert_beyond, revert_within};
-  if (!revert.revert_beyond_valid()) {
+  if (!TubeLawSettings::revert_beyond_valid(revert_beyond)) {
     throw std::invalid_argument("tube controller: revert_beyond must be 0 (off) or above 1 (times the state bounds), got " +
                                 std::to_string(revert_beyond));
   }
-  if (!revert.revert_within_valid()) {
+  if (!TubeLawSettings::revert_within_valid(revert_beyond, revert_within)) {
     throw std::invalid_argument("tube controller: revert_within must be in [1, revert_beyond = " + std::to_string(revert_beyond) +
                                 "], got " + std::to_string(revert_within));
   }

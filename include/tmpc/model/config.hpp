@@ -132,10 +132,13 @@ struct TubeLawSettings {
   // state's bound (0: off, else > 1), leave within revert_within (in [1, revert_beyond]).
   double revert_beyond = 0.0;
   double revert_within = 1.5;
-  bool revert_beyond_valid() const { return revert_beyond == 0.0 || revert_beyond > 1.0; }
-  bool revert_within_valid() const {
-    return revert_beyond == 0.0 || (revert_within >= 1.0 && revert_within <= revert_beyond);
+  /// The bounds' ranges (a NaN is in none), for these settings or any pair of bounds.
+  static bool revert_beyond_valid(double beyond) { return beyond == 0.0 || beyond > 1.0; }
+  static bool revert_within_valid(double beyond, double within) {
+    return beyond == 0.0 || (within >= 1.0 && within <= beyond);
   }
+  bool revert_beyond_valid() const { return revert_beyond_valid(revert_beyond); }
+  bool revert_within_valid() const { return revert_within_valid(revert_beyond, revert_within); }
 };
 
 /// State estimation (optional section `estimation`; DESIGN.md 5b): which observer the
