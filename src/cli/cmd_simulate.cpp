@@ -94,6 +94,7 @@ void print_metrics(const MissionMetrics& r) {
     if (r.gated_samples > 0) std::printf("; %ld glitched samples replaced by the filter's prediction", r.gated_samples);
     if (r.step_detections > 0) std::printf("; %ld disturbance steps detected", r.step_detections);
     if (r.step_lift_reopenings > 0) std::printf(" (%ld re-opened the lift)", r.step_lift_reopenings);
+    if (r.step_actuator_corrections > 0) std::printf(" (%ld read as the actuators')", r.step_actuator_corrections);
     std::printf("\n");
   }
   if (r.tube_exits > 0) {

@@ -23,6 +23,11 @@ void add_estimator_flags(CLI::App* sub, EstimatorChoice& e) {
          "a disturbance step keeps the vertical force's steady covariance (default: a step the filter's innovations do "
          "not classify as a horizontal force, a rotor's thrust loss, re-opens the lift too; runtime/tube_controller.hpp)")
       ->excludes(no_steps);
+  sub->add_flag_callback(
+         "--no-actuator-step", [&e] { e.step_corrects_input = false; },
+         "a disturbance step the actuators explain is left to the re-opened gains (default: the filter's prediction "
+         "takes that step's effect since its onset, read from the innovations; runtime/tube_controller.hpp)")
+      ->excludes(no_steps);
   sub->add_option("--revert-beyond", e.revert_beyond,
                   "past this many times a state's bound (> 1), the tube gain's unconstrained law flies until every state is "
                   "back within --revert-within times its bound; 0: never (default: the artifact's tube_law.revert_beyond; "

@@ -193,6 +193,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     mm.gated_samples += s.gated_rows;
     if (s.step_detected) ++mm.step_detections;
     if (s.step_reopened_lift) ++mm.step_lift_reopenings;
+    if (s.step_input) ++mm.step_actuator_corrections;
     mm.filter_louder_periods += s.filtered && s.filter_noise_scale > 1.0;
     if (s.filtered) mm.filter_noise_scale_max = std::max(mm.filter_noise_scale_max, s.filter_noise_scale);
     if (s.softened) {
@@ -286,7 +287,8 @@ std::string metrics_json(const MissionMetrics& m) {
                    {"filter_louder_periods", m.filter_louder_periods}, {"filter_noise_scale_max", m.filter_noise_scale_max},
                    {"gated_samples", m.gated_samples},
                    {"step_detections", m.step_detections},
-                   {"step_lift_reopenings", m.step_lift_reopenings}};
+                   {"step_lift_reopenings", m.step_lift_reopenings},
+                   {"step_actuator_corrections", m.step_actuator_corrections}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;

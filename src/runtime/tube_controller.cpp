@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/QR>
 
 namespace tmpc {
 
@@ -149,6 +150,31 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
         lift.push_back(j);
       }
       const KalmanDesign design = kalman_model(a);
+      if (opt_.step_corrects_input && !forces.empty()) {
+        // The actuators' steps as disturbance steps (header): v_j with [D E_c] v_j = B_j
+        // in least squares, kept where that matches B_j within kInputMatch.
+        const Eigen::Index p = a.measured;
+        const Eigen::MatrixXd W = design.A_a.block(0, p, p, nx - p);
+        const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(W);
+        std::vector<Eigen::VectorXd> cols;
+        std::vector<double> prior;
+        for (Eigen::Index j = 0; j < design.B_a.cols(); ++j) {
+          const Eigen::VectorXd b = design.B_a.col(j).head(p);
+          const Eigen::VectorXd v = cod.solve(b);
+          if (b.norm() > 0.0 && (W * v - b).norm() <= kInputMatch * b.norm()) {
+            cols.push_back(Eigen::VectorXd::Zero(nx));
+            cols.back().tail(nx - p) = v;
+            step_inputs_.push_back(static_cast<int>(j));
+            prior.push_back(kInputStepStd * std::max(std::abs(a.input_min(j)), std::abs(a.input_max(j))) * a.N_u(j));
+          }
+        }
+        input_steps_ = Eigen::MatrixXd::Zero(nx, static_cast<Eigen::Index>(cols.size()));
+        input_prior_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(cols.size()));
+        for (std::size_t i = 0; i < cols.size(); ++i) {
+          input_steps_.col(static_cast<Eigen::Index>(i)) = cols[i];
+          input_prior_(static_cast<Eigen::Index>(i)) = prior[i];
+        }
+      }
       const std::vector<double>& scales = FilterGainSchedule::scales();
       for (std::size_t i = 0; i < (schedule_ ? scales.size() : 1) && scales[i] <= kStepScaleMax; ++i) {
         const KalmanDesign& ks = schedule_ ? schedule_->design(i) : design;
@@ -161,11 +187,14 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
         const Eigen::VectorXd sd = innovation_sd(ks);
         sig_all_.emplace_back(ks.A_a, ks.C, ks.L, sd, all, kStepWindow);
         sig_lift_.emplace_back(ks.A_a, ks.C, ks.L, sd, lift, kStepWindow);
+        if (!step_inputs_.empty()) sig_input_.push_back(
+              StepSignature::along(ks.A_a, ks.C, ks.L, sd, input_steps_, kStepWindow, input_prior_, kInputDetermined));
       }
       if (!forces.empty()) {
         step_window_ = InnovationWindow(static_cast<Eigen::Index>(rows_.size()), kStepWindow);
         step_z_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
         lift_threshold_ = chi_square_quantile(static_cast<int>(all.size() - lift.size()), kLiftConfidence);
+        mu_input_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(step_inputs_.size()));
       }
     }
   } else {
@@ -277,11 +306,35 @@ void TubeController::detect_step() {
   reopened_lift_ = false;
   if (classify) {
     // The lift only where every force does not explain the window significantly better.
-    const double glr = sig_all_[at].fit(step_window_).statistic - sig_lift_[at].fit(step_window_).statistic;
+    const double l_all = sig_all_[at].fit(step_window_).statistic;
+    const double glr = l_all - sig_lift_[at].fit(step_window_).statistic;
     out_.step_horizontal_glr = glr;
     reopened_lift_ = glr <= lift_threshold_;
     out_.step_reopened_lift = reopened_lift_;
+    if (!sig_input_.empty()) correct_input_step(at, l_all);
   }
+}
+
+void TubeController::correct_input_step(std::size_t at, double l_all) {
+  // A step of the actuators, accepted where it explains kInputExplained of what every
+  // force and residual explain; the prediction then takes the step's effect since its
+  // onset, the step read along the directions the window determines (header).
+  const StepSignature& sig = sig_input_[at];
+  const StepSignature::Fit fit = sig.fit(step_window_);
+  if (fit.onset < 1 || fit.statistic < kInputExplained * l_all) return;
+  sig.read_step(step_window_, fit.onset, mu_input_);
+  for (std::size_t i = 0; i < step_inputs_.size(); ++i) {
+    // An input whose compensation would itself move a state by more than kInputKick of
+    // its bound in one period (a servo's torque) is left to the re-opened gains.
+    const auto j = static_cast<Eigen::Index>(i);
+    if (B_a_.col(step_inputs_[i]).head(a_.measured).cwiseAbs().maxCoeff() * std::abs(mu_input_(j)) > kInputKick) {
+      mu_input_(j) = 0.0;
+    }
+  }
+  if (mu_input_.isZero(0.0)) return;
+  xi_pred_.noalias() += sig.jump(fit.onset) * mu_input_;
+  for (std::size_t j = 0; j < rows_.size(); ++j) innov_(static_cast<Eigen::Index>(j)) = x_n_(rows_[j]) - xi_pred_(rows_[j]);
+  out_.step_input = true;
 }
 
 const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, bool consecutive) {
@@ -291,6 +344,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   out_.gated_rows = 0;
   out_.step_detected = out_.step_reopened_lift = false;
   out_.step_horizontal_glr = 0.0;
+  out_.step_input = false;
   const bool predicted = kalman_ && have_prev_ && consecutive && x_n_.allFinite();
   if (predicted) {
     xi_pred_.noalias() = A_a_ * xi_;

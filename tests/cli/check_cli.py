@@ -74,6 +74,10 @@ elif check == "unknown-plant":
         need(0 < p.returncode < 128, f"{cmd[0]}: exit code {p.returncode}: an error, not a crash, was expected")
         need("--no-step-detection excludes --step-keeps-lift" in p.stdout + p.stderr,
              f"{cmd[0]}: the message does not name the two options: {p.stdout}{p.stderr}")
+        p = run(*cmd, "--no-step-detection", "--no-actuator-step", expect_rc=None)
+        need(0 < p.returncode < 128, f"{cmd[0]}: exit code {p.returncode}: an error, not a crash, was expected")
+        need("--no-step-detection excludes --no-actuator-step" in p.stdout + p.stderr,
+             f"{cmd[0]}: the message does not name the two options: {p.stdout}{p.stderr}")
 elif check == "crosscheck":
     j = json.loads(run("crosscheck", "--config", config, "--states", "1000", "--json").stdout)
     fd = j["forward_dynamics"]["max_relative_error"]

@@ -906,30 +906,42 @@ TEST(Scenarios, ActuatorFaultsTheControllerIsNotToldOfAreFlown) {
   EXPECT_EQ(noisy.noise.seed, test::shipped_scenario("noisy_sensors").noise.seed);
   EXPECT_EQ(noisy.faults.size(), test::shipped_scenario("actuator_faults").faults.size());
   const MissionMetrics detected = run_mission(test::artifact(), noisy, MissionOptions{});
-  MissionOptions steady, keep;
+  MissionOptions steady, keep, gains;
   steady.estimator.no_step_detection = true;
   keep.estimator.step_reopens_lift = false;
+  gains.estimator.step_corrects_input = false;
   const MissionMetrics slow = run_mission(test::artifact(), noisy, steady);
   const MissionMetrics kept = run_mission(test::artifact(), noisy, keep);
-  std::printf("actuator_faults, noisy sensors: %ld violations (%ld steps detected, %ld re-opening the lift; worst %.2f), "
-              "%ld with the lift kept (worst %.2f), %ld with the steady gain alone (worst %.2f)\n",
+  const MissionMetrics reopened = run_mission(test::artifact(), noisy, gains);
+  std::printf("actuator_faults, noisy sensors: %ld violations (%ld steps detected, %ld re-opening the lift, %ld read as "
+              "the actuators'; worst %.2f), %ld with the re-opened gains alone (worst %.2f), %ld with the lift kept "
+              "(worst %.2f), %ld with the steady gain alone (worst %.2f)\n",
               detected.state_constraint_violations, detected.step_detections, detected.step_lift_reopenings,
-              detected.violation_max_ratio, kept.state_constraint_violations, kept.violation_max_ratio,
+              detected.step_actuator_corrections, detected.violation_max_ratio, reopened.state_constraint_violations,
+              reopened.violation_max_ratio, kept.state_constraint_violations, kept.violation_max_ratio,
               slow.state_constraint_violations, slow.violation_max_ratio);
   EXPECT_FALSE(detected.diverged);
   EXPECT_EQ(detected.fallback_periods, 0);
-  EXPECT_NEAR(static_cast<double>(detected.state_constraint_violations), 13.0, 4.0) << "README states 13";
+  EXPECT_NEAR(static_cast<double>(detected.state_constraint_violations), 8.0, 3.0) << "README states 8";
+  EXPECT_NEAR(static_cast<double>(reopened.state_constraint_violations), 13.0, 4.0) << "README states 13";
   EXPECT_NEAR(static_cast<double>(kept.state_constraint_violations), 30.0, 0.2 * 30.0) << "README states 30";
   EXPECT_LT(detected.violation_max_ratio, 1.6);
+  EXPECT_LT(reopened.violation_max_ratio, 1.6);
   EXPECT_LT(kept.violation_max_ratio, 1.6);  // 1.46 (2.58 with the steady gain alone)
   EXPECT_NEAR(static_cast<double>(slow.state_constraint_violations), 142.0, 0.05 * 142.0) << "README states 142";
-  EXPECT_GE(detected.step_detections, 1);
-  // Read (telemetry, measured once): the thrust loss at 30.04 s, the 1 N y step at 40.12 s
-  // (horizontal: the lift kept), the servo's torque bias at 50.29 s and the 1 N vertical
-  // step at 61.02 s (the lift re-opened).
+  // Read (telemetry, measured once), by default: the thrust loss at 30.04 s (the
+  // actuators' step: the filter's prediction corrected), the servo's torque bias at
+  // 50.29 s and the 1 N vertical step at 61.02 s (the lift re-opened at each); the 1 N y
+  // step at 40 s is not read. With the re-opened gains alone the y step is read at
+  // 40.12 s too (horizontal: the lift kept).
+  EXPECT_GE(detected.step_detections, 3);
+  EXPECT_EQ(detected.step_actuator_corrections, 1) << "the thrust loss";
   EXPECT_GE(detected.step_lift_reopenings, 2);
-  EXPECT_EQ(detected.step_detections - detected.step_lift_reopenings, 1) << "the y step, horizontal";
+  EXPECT_EQ(reopened.step_actuator_corrections, 0);
+  EXPECT_GE(reopened.step_lift_reopenings, 2);
+  EXPECT_EQ(reopened.step_detections - reopened.step_lift_reopenings, 1) << "the y step, horizontal";
   EXPECT_EQ(kept.step_lift_reopenings, 0);
+  EXPECT_EQ(kept.step_actuator_corrections, 0) << "the actuators' class needs the lift's classification";
   EXPECT_EQ(slow.step_detections, 0);
 }
 
@@ -937,9 +949,10 @@ TEST(Scenarios, ActuatorFaultsTheControllerIsNotToldOfAreFlown) {
 // times the noisy sensors' noise and the left rotor at 90 % of its thrust from 25 s:
 // the step is read in both flights; with the force kept (--step-keeps-lift) its
 // steady gain reads the lost lift slowly and the vertical speed passes its bound (8
-// violations, d_z 1.03 times its bound); by default the step is classified as not
-// horizontal, the vertical force re-opened, and the flight has none (d_z 0.66). The
-// same flight without the fault reads no step.
+// violations, d_z 1.03 times its bound); classified as not horizontal, the vertical
+// force re-opened, the flight has none (d_z 0.66 with the re-opened gains alone,
+// --no-actuator-step; 0.53 by default, the step read as the actuators' too). The same
+// flight without the fault reads no step.
 TEST(Scenarios, ReopeningTheLiftAtAStepHoldsTheVerticalSpeedThroughARotorFault) {
   Scenario s = test::shipped_scenario("thesis_helix");
   s.duration = 40.0;
@@ -947,17 +960,19 @@ TEST(Scenarios, ReopeningTheLiftAtAStepHoldsTheVerticalSpeedThroughARotorFault) 
   for (double& w : s.noise.white) w *= 1.5;
   const MissionMetrics clean = run_mission(test::artifact(), s, MissionOptions{});
   s.faults = {ActuatorFault{ActuatorFault::Kind::Efficiency, 1, 0.9, 0.0, 25.0}};
-  MissionOptions keep;
+  MissionOptions keep, gains;
   keep.estimator.step_reopens_lift = false;
+  gains.estimator.step_corrects_input = false;
   const MissionMetrics kept = run_mission(test::artifact(), s, keep);
-  const MissionMetrics opened = run_mission(test::artifact(), s, MissionOptions{});
+  const MissionMetrics opened = run_mission(test::artifact(), s, gains);
+  const MissionMetrics corrected = run_mission(test::artifact(), s, MissionOptions{});
   const auto dz = static_cast<std::size_t>(std::find(kept.box_names.begin(), kept.box_names.end(), "d_z") -
                                            kept.box_names.begin());
   ASSERT_LT(dz, kept.box_peak_ratio.size());
   std::printf("rotor at 90 %% with 1.5 times the noise: %ld violations (d_z %.2f of its bound) with the force kept, %ld "
-              "(d_z %.2f) with the lift re-opened\n",
+              "(d_z %.2f) with the lift re-opened, %ld (d_z %.2f) read as the actuators' too\n",
               kept.state_constraint_violations, kept.box_peak_ratio[dz], opened.state_constraint_violations,
-              opened.box_peak_ratio[dz]);
+              opened.box_peak_ratio[dz], corrected.state_constraint_violations, corrected.box_peak_ratio[dz]);
   EXPECT_EQ(clean.step_detections, 0);
   EXPECT_EQ(kept.step_detections, 1);
   EXPECT_EQ(opened.step_detections, 1);
@@ -969,6 +984,10 @@ TEST(Scenarios, ReopeningTheLiftAtAStepHoldsTheVerticalSpeedThroughARotorFault) 
   EXPECT_NEAR(opened.box_peak_ratio[dz], 0.66, 0.05 * 0.66);
   EXPECT_EQ(opened.fallback_periods, 0);
   EXPECT_FALSE(opened.diverged);
+  EXPECT_EQ(corrected.step_actuator_corrections, 1);
+  EXPECT_EQ(corrected.state_constraint_violations, 0);
+  EXPECT_NEAR(corrected.box_peak_ratio[dz], 0.53, 0.05 * 0.53);
+  EXPECT_EQ(corrected.fallback_periods, 0);
 }
 
 }  // namespace

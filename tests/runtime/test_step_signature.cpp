@@ -114,6 +114,66 @@ TEST(StepSignature, TheNestedTestRejectsAWrongColumnAndRarelyARightOne) {
   EXPECT_EQ(rejected_wrong, trials);
 }
 
+// A step along any direction of the disturbance states (StepSignature::along: an
+// actuator's step is one, its input column mapped onto them): without noise the fit
+// gives the step along the direction exactly, and jump(onset) times it is the filter's
+// prediction error at the newest period (the oracle: the true state minus the
+// prediction of the filter flown above); read_step() gives the fit's step without a
+// prior and with a wide one (the window determines it), nothing with a narrow one, and
+// of two directions reads the one the window determines, leaving the other at zero.
+TEST(StepSignature, AStepAlongADirectionIsFittedAndItsJumpIsThePredictionError) {
+  const PointMass s = point_mass();
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(6, 1);
+  E(4, 0) = 0.6;
+  E(5, 0) = 0.8;
+  const StepSignature along = StepSignature::along(s.A, s.C, s.L, s.sd, E, 12);
+  EXPECT_EQ(along.directions(), 1);
+  EXPECT_TRUE(along.columns().empty());
+  const double mu = 0.9;
+  InnovationWindow w(4, 12);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(6), xi = Eigen::VectorXd::Zero(6), nu(4);
+  const int onset = 20, periods = 27;  // the first innovation at 21, the newest at 26: onset 6
+  for (int k = 0; k < periods; ++k) {
+    if (k == onset) x += E * mu;
+    nu = s.C * x - s.C * xi;
+    w.push(nu.cwiseQuotient(s.sd));
+    if (k == periods - 1) break;  // xi stays the newest prediction
+    xi += s.L * nu;
+    xi = s.A * xi;
+    x = s.A * x;
+  }
+  Eigen::VectorXd step(1);
+  const StepSignature::Fit f = along.fit(w, &step);
+  EXPECT_EQ(f.onset, 6);
+  EXPECT_NEAR(step(0), mu, 1e-9);
+  const Eigen::VectorXd error = x - xi;
+  EXPECT_GT(error.norm(), 0.01);
+  EXPECT_LT((along.jump(f.onset) * step - error).norm(), 1e-9 * error.norm());
+  Eigen::VectorXd map(1);
+  along.read_step(w, f.onset, map);
+  EXPECT_NEAR(map(0), mu, 1e-9) << "no prior: the fit's step";
+  const StepSignature wide = StepSignature::along(s.A, s.C, s.L, s.sd, E, 12, Eigen::VectorXd::Constant(1, 100.0));
+  const StepSignature narrow = StepSignature::along(s.A, s.C, s.L, s.sd, E, 12, Eigen::VectorXd::Constant(1, 1e-4));
+  wide.read_step(w, f.onset, map);
+  EXPECT_NEAR(map(0), mu, 1e-9);
+  narrow.read_step(w, f.onset, map);
+  EXPECT_EQ(map(0), 0.0);
+  const StepSignature two = StepSignature::along(s.A, s.C, s.L, s.sd, Eigen::MatrixXd::Identity(6, 6).rightCols(2), 12,
+                                                 Eigen::Vector2d(100.0, 1e-4));
+  Eigen::VectorXd pair(2);
+  two.read_step(w, f.onset, pair);
+  EXPECT_NEAR(pair(0), 0.6 * mu, 1e-9);
+  EXPECT_EQ(pair(1), 0.0);
+  // A direction in the measured states, a prior of the wrong size or sign: refused.
+  Eigen::MatrixXd measured = E;
+  measured(2, 0) = 1.0;
+  EXPECT_THROW(StepSignature::along(s.A, s.C, s.L, s.sd, measured, 12), std::invalid_argument);
+  EXPECT_THROW(StepSignature::along(s.A, s.C, s.L, s.sd, E, 12, Eigen::VectorXd::Ones(2)), std::invalid_argument);
+  EXPECT_THROW(StepSignature::along(s.A, s.C, s.L, s.sd, E, 12, -Eigen::VectorXd::Ones(1)), std::invalid_argument);
+  EXPECT_THROW(StepSignature::along(s.A, s.C, s.L, s.sd, Eigen::MatrixXd::Zero(5, 1), 12), std::invalid_argument);
+  EXPECT_THROW(StepSignature::along(s.A, s.C, s.L, s.sd, E, 12, Eigen::VectorXd::Ones(1), 1.0), std::invalid_argument);
+}
+
 TEST(StepSignature, TheWindowKeepsTheNewestInOrder) {
   InnovationWindow w(2, 3);
   EXPECT_EQ(w.size(), 0);

@@ -7,7 +7,10 @@
 // (E: unit columns of the states a step may hit, the forces and residuals) sees, on
 // top of its white innovations, the deterministic signature
 //   nu(t0 + k) = C (A_a (I - L C))^k E mu = G(k) mu,   k = 0, 1, ...
-// (G(0) = C E = 0 for unmeasured disturbance states). With the innovations whitened
+// (G(0) = C E = 0 for unmeasured disturbance states; E unit columns, or any directions
+// in them such as an actuator's: an input step B_j mu is the disturbance step v_j mu
+// whose effect [D E_c] v_j matches B_j, Pannocchia and Rawlings 2003's input-disturbance
+// model). With the innovations whitened
 // by their steady deviations (z = nu / sd, rows taken as independent: an approximation),
 // the log-likelihood ratio of "a step of columns E, m periods ago" against "no step",
 // maximized over mu, is
@@ -55,22 +58,50 @@ class StepSignature {
   /// naming a size or index that does not fit.
   StepSignature(const Eigen::MatrixXd& A_a, const Eigen::MatrixXd& C, const Eigen::MatrixXd& L,
                 const Eigen::VectorXd& sd, const std::vector<Eigen::Index>& columns, int window);
+  /// The same with any step directions E (nx x h, h >= 1, C E = 0: unmeasured states),
+  /// e.g. an input's column mapped onto the disturbance states (an actuator's step).
+  /// `prior_sd` (h, > 0; empty: none): the deviations of mu's prior for read_step(),
+  /// which reads mu along the directions the window determines to within `determined`
+  /// (in (0, 1)) of the prior's deviation. Throws std::invalid_argument.
+  static StepSignature along(const Eigen::MatrixXd& A_a, const Eigen::MatrixXd& C, const Eigen::MatrixXd& L,
+                             const Eigen::VectorXd& sd, const Eigen::MatrixXd& E, int window,
+                             const Eigen::VectorXd& prior_sd = Eigen::VectorXd(), double determined = 0.1);
 
   struct Fit {
     double statistic = 0.0;  ///< max over the onset of l(m) (0: no innovation yet)
     int onset = 0;           ///< its m: periods since the step's first innovation
   };
   /// The GLR over the window's innovations (newest first, whitened by the same sd);
-  /// `step`, when given (sized columns().size()), receives mu_hat at the best onset.
+  /// `step`, when given (sized directions()), receives mu_hat at the best onset.
   Fit fit(const InnovationWindow& z, Eigen::VectorXd* step = nullptr) const;
+  /// The step at onset m (1..W), read where the window determines it (a truncated
+  /// estimate, as for an ill-posed inverse problem): with S = diag(prior_sd), along the
+  /// eigenvectors of S M(m) S whose eigenvalue (the prior's variance over the estimate's)
+  /// is at least 1 / determined^2, mu = S (S M(m) S)^+ S b(m) restricted to those; the
+  /// other directions are left at zero. Without a prior, M(m)^-1 b(m), fit()'s step.
+  /// No allocation; `step` sized directions() (otherwise left alone); zero for an
+  /// empty window.
+  void read_step(const InnovationWindow& z, int m, Eigen::VectorXd& step) const;
+  /// The step's directions (E's columns).
+  Eigen::Index directions() const { return b_.size(); }
+  /// The unit columns of the first constructor (empty for the second).
   const std::vector<Eigen::Index>& columns() const { return columns_; }
   /// G(k), k = 1..W (whitened), for inspection.
   const Eigen::MatrixXd& signature(int k) const { return G_[static_cast<std::size_t>(k - 1)]; }
+  /// The filter's prediction error now from a step E mu whose first innovation was m
+  /// periods ago (the newest innovation carries G(m)): Phi^m E, m = 1..W. Adding
+  /// Phi^m E mu_hat to the prediction is the GLR's estimate correction (Willsky and
+  /// Jones 1976): the filter then continues as if it had known the step from its onset.
+  const Eigen::MatrixXd& jump(int m) const { return J_[static_cast<std::size_t>(m - 1)]; }
 
  private:
   std::vector<Eigen::Index> columns_;
   std::vector<Eigen::MatrixXd> G_;     ///< G(k), k = 1..W
   std::vector<Eigen::MatrixXd> Minv_;  ///< M(m)^-1 (pseudo-inverse where M is singular)
+  std::vector<Eigen::MatrixXd> J_;     ///< Phi^m E, m = 1..W
+  std::vector<Eigen::MatrixXd> Mread_;  ///< read_step()'s map of b(m) (M(m)^-1 without a prior)
+  void build(const Eigen::MatrixXd& A_a, const Eigen::MatrixXd& C, const Eigen::MatrixXd& L, const Eigen::VectorXd& sd,
+             const Eigen::MatrixXd& E, int window, const Eigen::VectorXd& prior_sd, double determined);
   mutable Eigen::VectorXd b_, t_;      ///< fit()'s scratch
 };
 

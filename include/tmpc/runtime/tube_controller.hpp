@@ -91,6 +91,19 @@
 // against "a step in every force and the residuals"; the lift is re-opened only when
 // the second does not explain the window significantly better (the GLRs' difference
 // within the chi-square quantile at kLiftConfidence for the forces left out).
+// step_corrects_input (on by default, with step_reopens_lift): the actuators' class
+// too. A step mu_j in input j is the step v_j mu_j of the filter's disturbance states
+// whose effect [D E_c] v_j matches B's column j (least squares, kept where within
+// kInputMatch; Pannocchia and Rawlings 2003's input-disturbance model). Where the GLR of
+// a step in every input's direction is at least kInputExplained of every force's and
+// residual's (a share: the plant's nonlinearity leaves a misfit that grows with the
+// step), the prediction takes the step's effect since its fitted onset m, Phi^m E mu
+// (step_signature.hpp's jump; Willsky and Jones' estimate correction), mu read along
+// the directions the window determines to within kInputDetermined of a prior of
+// kInputStepStd of each input's largest limit (a rotor's differential thrust, not yet
+// its lift, which the re-opened lift reads), and not for an input whose compensation
+// would move a state by more than kInputKick of its bound in one period (a servo's
+// torque moves its rate at once: compensated at once, it kicked the rate the other way).
 // Not while the start's schedule runs or within kStepHold periods of a step, not after
 // a softened or fallback period, and only where the noise monitor reads the noise the
 // gain flown is designed for (up to kStepNoiseLevel times it): the re-opened prior's
@@ -136,6 +149,10 @@ struct TubeControllerOptions {
   /// force on the load too (below), which reads a rotor's lost lift at once; false: the
   /// force's block keeps its steady covariance.
   bool step_reopens_lift = true;
+  /// step_reopens_lift: a step that one actuator's input explains (an actuator's fault:
+  /// a thrust lost, a servo's torque biased) corrects the filter's prediction by that
+  /// step's effect since its onset (below); false: the re-opened gains alone read it.
+  bool step_corrects_input = true;
   /// Reversion past the linear model's region (a supervisor; off at 0): once a state of
   /// the error (the estimate flown) is past revert_beyond times its bound in X, the tube
   /// gain's unconstrained law u = u_s + K (x_n - x_s) flies every period, counted as a
@@ -186,6 +203,7 @@ struct ControlStep {
   bool step_detected = false;  ///< step_detection: a disturbance step was detected; the filter's gains re-opened
   bool step_reopened_lift = false;  ///< that step re-opened the lift too (step_reopens_lift, classified as not horizontal)
   double step_horizontal_glr = 0.0;  ///< that step's GLR difference, every force against the lift's (step_reopens_lift)
+  bool step_input = false;  ///< step_corrects_input: that step was read as the actuators' and corrected
   double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
                                     ///< (during the filter's start schedule, the one it will fly after)
 };
@@ -290,6 +308,22 @@ class TubeController {
   InnovationWindow step_window_;
   Eigen::VectorXd step_z_;
   double lift_threshold_ = 0.0;
+  // step_corrects_input: the actuators' steps as disturbance directions (columns of
+  // input_steps_ for the inputs in step_inputs_), their prior deviations, their
+  // signature per noise scale and the step read.
+  Eigen::MatrixXd input_steps_;
+  std::vector<int> step_inputs_;
+  Eigen::VectorXd input_prior_;
+  std::vector<StepSignature> sig_input_;
+  Eigen::VectorXd mu_input_;
+  void correct_input_step(std::size_t at, double l_all);
+  /// An input's direction is kept where [D E_c] v matches B_j within kInputMatch; its
+  /// step's prior deviation is kInputStepStd of its largest limit, read where the window
+  /// determines it to kInputDetermined of that; a step is the actuators' where their GLR
+  /// is at least kInputExplained of every disturbance's; an input whose compensation
+  /// would move a state by more than kInputKick of its bound in one period is not read.
+  static constexpr double kInputMatch = 0.05, kInputStepStd = 0.1, kInputDetermined = 0.1, kInputExplained = 0.9,
+                          kInputKick = 0.5;
   static constexpr int kStepWindow = 20;
   static constexpr double kLiftConfidence = 0.999;
   static constexpr double kStepMemory = 0.7, kStepThreshold = 16.0, kStepConfirm = 4.0, kReopenResidualStd = 3e-3;
