@@ -45,6 +45,14 @@ void fly_exact(const ControllerArtifact& a, TubeController& ctrl, const Eigen::V
   }
 }
 
+/// fly_exact's sense: white noise of `scale` times design_noise on the measured rows,
+/// drawn from `rng` in order (the distribution's state travels with the copy flown).
+auto white_noise(const ControllerArtifact& a, double scale, std::mt19937_64& rng) {
+  return [&a, scale, &rng, normal = std::normal_distribution<double>()](int, Eigen::VectorXd& meas) mutable {
+    for (int i = 0; i < a.measured; ++i) meas(i) += scale * design_noise(a, i) * normal(rng);
+  };
+}
+
 const ControllerArtifact& artifact() {
   static const ControllerArtifact a = test::quick_artifact();
   return a;
@@ -592,13 +600,9 @@ TEST(TubeController, AHorizontalForceStepKeepsTheLiftClosed) {
     TubeControllerOptions o = tube_law_options(a, "offset-free", 0.0, "kalman");
     TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
     std::mt19937_64 rng(seed);
-    std::normal_distribution<double> normal;
     Read r;
     fly_exact(
-        a, ctrl, d, end,
-        [&](int, Eigen::VectorXd& meas) {
-          for (int i = 0; i < a.measured; ++i) meas(i) += noise * design_noise(a, i) * normal(rng);
-        },
+        a, ctrl, d, end, white_noise(a, noise, rng),
         [&](int k, Eigen::VectorXd& u) {
           if (k >= onset && rotor >= 0) u(rotor) *= factor;
         },
@@ -666,13 +670,9 @@ TEST(TubeController, AnActuatorsStepIsReadFromItsOnsetAndAForceOnTheLoadIsNot) {
     o.step_corrects_input = correct;
     TubeController ctrl(a, make_solver("active-set", a.qp(true)), o);
     std::mt19937_64 rng(seed);
-    std::normal_distribution<double> normal;
     Read r;
     fly_exact(
-        a, ctrl, d, end,
-        [&](int, Eigen::VectorXd& meas) {
-          for (int i = 0; i < a.measured; ++i) meas(i) += 1.5 * design_noise(a, i) * normal(rng);
-        },
+        a, ctrl, d, end, white_noise(a, 1.5, rng),
         [&](int k, Eigen::VectorXd& u) {
           if (k >= onset && input >= 0) u(input) = factor * u(input) + bias;
         },
