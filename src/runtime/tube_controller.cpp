@@ -161,11 +161,12 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
         for (Eigen::Index j = 0; j < design.B_a.cols(); ++j) {
           const Eigen::VectorXd b = design.B_a.col(j).head(p);
           const Eigen::VectorXd v = cod.solve(b);
-          if (b.norm() > 0.0 && (W * v - b).norm() <= kInputMatch * b.norm()) {
+          const double sd = kInputStepStd * std::max(std::abs(a.input_min(j)), std::abs(a.input_max(j))) * a.N_u(j);
+          if (b.norm() > 0.0 && (W * v - b).norm() <= kInputMatch * b.norm() && sd > 0.0 && std::isfinite(sd)) {
             cols.push_back(Eigen::VectorXd::Zero(nx));
             cols.back().tail(nx - p) = v;
             step_inputs_.push_back(static_cast<int>(j));
-            prior.push_back(kInputStepStd * std::max(std::abs(a.input_min(j)), std::abs(a.input_max(j))) * a.N_u(j));
+            prior.push_back(sd);
           }
         }
         input_steps_ = Eigen::MatrixXd::Zero(nx, static_cast<Eigen::Index>(cols.size()));
