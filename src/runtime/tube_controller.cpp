@@ -188,8 +188,10 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
         const Eigen::VectorXd sd = innovation_sd(ks);
         sig_all_.emplace_back(ks.A_a, ks.C, ks.L, sd, all, kStepWindow);
         sig_lift_.emplace_back(ks.A_a, ks.C, ks.L, sd, lift, kStepWindow);
-        if (!step_inputs_.empty()) sig_input_.push_back(
+        if (!step_inputs_.empty()) {
+          sig_input_.push_back(
               StepSignature::along(ks.A_a, ks.C, ks.L, sd, input_steps_, kStepWindow, input_prior_, kInputDetermined));
+        }
       }
       if (!forces.empty()) {
         step_window_ = InnovationWindow(static_cast<Eigen::Index>(rows_.size()), kStepWindow);
