@@ -95,6 +95,7 @@ void print_metrics(const MissionMetrics& r) {
     if (r.step_detections > 0) std::printf("; %ld disturbance steps detected", r.step_detections);
     if (r.step_lift_reopenings > 0) std::printf(" (%ld re-opened the lift)", r.step_lift_reopenings);
     if (r.step_actuator_corrections > 0) std::printf(" (%ld read as the actuators')", r.step_actuator_corrections);
+    if (r.step_late_kept > 0) std::printf("; %ld older than the detection window, left to the steady gain", r.step_late_kept);
     std::printf("\n");
   }
   if (r.tube_exits > 0) {

@@ -28,6 +28,11 @@ void add_estimator_flags(CLI::App* sub, EstimatorChoice& e) {
          "a disturbance step the actuators explain is left to the re-opened gains (default: the filter's prediction "
          "takes that step's effect since its onset, read from the innovations; runtime/tube_controller.hpp)")
       ->excludes(no_steps);
+  sub->add_flag_callback(
+         "--reopen-late-steps", [&e] { e.late_step_keeps_gain = false; },
+         "a disturbance step detected older than the detection window (0.24 s) re-opens the filter's gains too "
+         "(default: it is left to the steady gain, which has been reading it; runtime/tube_controller.hpp)")
+      ->excludes(no_steps);
   sub->add_option("--revert-beyond", e.revert_beyond,
                   "past this many times a state's bound (> 1), the tube gain's unconstrained law flies until every state is "
                   "back within --revert-within times its bound; 0: never (default: the artifact's tube_law.revert_beyond; "

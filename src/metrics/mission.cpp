@@ -194,6 +194,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
     if (s.step_detected) ++mm.step_detections;
     if (s.step_reopened_lift) ++mm.step_lift_reopenings;
     if (s.step_input) ++mm.step_actuator_corrections;
+    if (s.step_late) ++mm.step_late_kept;
     mm.filter_louder_periods += s.filtered && s.filter_noise_scale > 1.0;
     if (s.filtered) mm.filter_noise_scale_max = std::max(mm.filter_noise_scale_max, s.filter_noise_scale);
     if (s.softened) {
@@ -222,7 +223,7 @@ MissionMetrics run_mission(const ControllerArtifact& a, const Scenario& sc, cons
           << s.clipped << "," << s.in_tube << "," << a.X.contains(a.N_x.cwiseProduct(judged)) << "," << s.tube_ratio
           << "," << s.tube_worst << "," << s.softened << "," << s.slack_max << "," << s.filtered << "," << s.noise_level;
       for (Eigen::Index i = 0; i < std::min<Eigen::Index>(3, s.d_hat.size()); ++i) csv << "," << s.d_hat(i);
-      csv << "," << s.gated_rows << "," << (s.step_detected ? (s.step_reopened_lift ? 2 : 1) : 0) << "\n";
+      csv << "," << s.gated_rows << "," << step_code(s) << "\n";
     }
   }
   if (err.join().active()) {
@@ -288,7 +289,8 @@ std::string metrics_json(const MissionMetrics& m) {
                    {"gated_samples", m.gated_samples},
                    {"step_detections", m.step_detections},
                    {"step_lift_reopenings", m.step_lift_reopenings},
-                   {"step_actuator_corrections", m.step_actuator_corrections}};
+                   {"step_actuator_corrections", m.step_actuator_corrections},
+                   {"step_late_kept", m.step_late_kept}};
   j["d_hat_final"] = m.d_hat_final;
   j["solver"] = m.solver;
   j["plant"] = m.plant;

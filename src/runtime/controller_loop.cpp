@@ -218,7 +218,7 @@ ControllerLoopStats run_controller_loop(const ControllerArtifact& a, io::Transpo
       rec.filtered = s.filtered;
       rec.noise_level = s.noise_level;
       rec.gated = static_cast<std::uint8_t>(s.gated_rows);
-      rec.step = s.step_detected ? (s.step_reopened_lift ? 2 : 1) : 0;
+      rec.step = static_cast<std::uint8_t>(step_code(s));
       for (int i = 0; i < m; ++i) cf.u[static_cast<std::size_t>(i)] = s.u(i);
       cf.flags = static_cast<std::uint8_t>((s.fallback ? io::ControlFrame::kFallback : 0) |
                                            (s.clipped ? io::ControlFrame::kClipped : 0));

@@ -302,20 +302,27 @@ void TubeController::detect_step() {
   const bool starting = !reopened_ && start_ && kf_step_ < start_->gains.size();  // the start's own prior is open
   if (classify) step_window_.push(step_z_);
   if (!step || !known_noise || starting || prev_off_law_ || kf_step_ < kStepHold) return;
+  bool lift = false;
+  if (classify) {
+    const StepSignature::Fit every = sig_all_[at].fit(step_window_);
+    // A step older than the window (its best onset the window's oldest period) is left
+    // to the steady gain, which has been reading it since (header).
+    if (opt_.late_step_keeps_gain && every.onset >= kStepWindow) {
+      out_.step_late = true;
+      return;
+    }
+    // The lift only where every force does not explain the window significantly better.
+    const double glr = every.statistic - sig_lift_[at].fit(step_window_).statistic;
+    out_.step_horizontal_glr = glr;
+    lift = glr <= lift_threshold_;
+    if (!sig_input_.empty()) correct_input_step(at, every.statistic);
+  }
   reopened_ = true;
   reopen_at_ = at;
   kf_step_ = 0;  // this period's update takes the re-opened prior's first gain
   out_.step_detected = true;
-  reopened_lift_ = false;
-  if (classify) {
-    // The lift only where every force does not explain the window significantly better.
-    const double l_all = sig_all_[at].fit(step_window_).statistic;
-    const double glr = l_all - sig_lift_[at].fit(step_window_).statistic;
-    out_.step_horizontal_glr = glr;
-    reopened_lift_ = glr <= lift_threshold_;
-    out_.step_reopened_lift = reopened_lift_;
-    if (!sig_input_.empty()) correct_input_step(at, l_all);
-  }
+  reopened_lift_ = lift;
+  out_.step_reopened_lift = lift;
 }
 
 void TubeController::correct_input_step(std::size_t at, double l_all) {
@@ -347,7 +354,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   out_.gated_rows = 0;
   out_.step_detected = out_.step_reopened_lift = false;
   out_.step_horizontal_glr = 0.0;
-  out_.step_input = false;
+  out_.step_input = out_.step_late = false;
   const bool predicted = kalman_ && have_prev_ && consecutive && x_n_.allFinite();
   if (predicted) {
     xi_pred_.noalias() = A_a_ * xi_;

@@ -70,14 +70,11 @@ elif check == "unknown-plant":
     # The same on the commands that fly the serial loop (they take simulate's estimator flags).
     for cmd in (["simulate", "--controller", "none.tmpc"], ["hil", "--controller", config],
                 ["controller", "--controller", config, "--port", "/dev/null"]):
-        p = run(*cmd, "--no-step-detection", "--step-keeps-lift", expect_rc=None)
-        need(0 < p.returncode < 128, f"{cmd[0]}: exit code {p.returncode}: an error, not a crash, was expected")
-        need("--no-step-detection excludes --step-keeps-lift" in p.stdout + p.stderr,
-             f"{cmd[0]}: the message does not name the two options: {p.stdout}{p.stderr}")
-        p = run(*cmd, "--no-step-detection", "--no-actuator-step", expect_rc=None)
-        need(0 < p.returncode < 128, f"{cmd[0]}: exit code {p.returncode}: an error, not a crash, was expected")
-        need("--no-step-detection excludes --no-actuator-step" in p.stdout + p.stderr,
-             f"{cmd[0]}: the message does not name the two options: {p.stdout}{p.stderr}")
+        for flag in ("--step-keeps-lift", "--no-actuator-step", "--reopen-late-steps"):
+            p = run(*cmd, "--no-step-detection", flag, expect_rc=None)
+            need(0 < p.returncode < 128, f"{cmd[0]}: exit code {p.returncode}: an error, not a crash, was expected")
+            need(f"--no-step-detection excludes {flag}" in p.stdout + p.stderr,
+                 f"{cmd[0]} {flag}: the message does not name the two options: {p.stdout}{p.stderr}")
 elif check == "crosscheck":
     j = json.loads(run("crosscheck", "--config", config, "--states", "1000", "--json").stdout)
     fd = j["forward_dynamics"]["max_relative_error"]

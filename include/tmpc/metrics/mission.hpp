@@ -84,9 +84,10 @@ struct MissionMetrics {
   double join_duration = 0.0;               ///< its T (s)
   long observer_switches = 0;               ///< switched observer: changes between filter and measurement
   long gated_samples = 0;                   ///< measured rows the filter's innovation gate replaced (glitches)
-  long step_detections = 0;                 ///< disturbance steps detected (step_detection)
+  long step_detections = 0;                 ///< disturbance steps detected that re-opened the filter's gains (step_detection)
   long step_lift_reopenings = 0;            ///< of those, the steps that re-opened the lift (step_reopens_lift)
   long step_actuator_corrections = 0;       ///< of those, the steps read as the actuators' (step_corrects_input)
+  long step_late_kept = 0;  ///< steps detected older than the detection window, left to the steady gain (late_step_keeps_gain)
   double noise_level_max = 0.0;             ///< the noise monitor's largest level (switched; kalman with the adaptive gain)
   long filter_louder_periods = 0;           ///< filtered periods whose steady gain is chosen for louder noise than the design's
   double filter_noise_scale_max = 1.0;      ///< the loudest noise (times the design's) a flown gain was for

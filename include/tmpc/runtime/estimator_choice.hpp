@@ -22,6 +22,7 @@ struct EstimatorChoice {
   bool no_step_detection = false;   ///< the Kalman filter keeps its gains at a disturbance step
   bool step_reopens_lift = true;    ///< a step not classified as horizontal re-opens the vertical force too
   bool step_corrects_input = true;  ///< a step the actuators explain corrects the filter's prediction
+  bool late_step_keeps_gain = true;  ///< a step older than the detection window keeps the steady gain
   double revert_beyond = -1.0;  ///< the reversion's enter bound (tube_controller.hpp): < 0 the artifact's, 0 off
   double revert_within = -1.0;  ///< its leave bound: < 0 the artifact's
 };

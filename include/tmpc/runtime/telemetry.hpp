@@ -41,7 +41,8 @@ struct TelemetryRecord {
   double noise_level = 0.0;           ///< the noise monitor's level (fraction of the design's)
   std::uint8_t gated = 0;             ///< measured rows the filter's innovation gate replaced (glitches)
   std::uint8_t step = 0;              ///< a disturbance step was read in the filter's innovations (its gains re-opened):
-                                      ///< 1, or 2 where it re-opened the lift too (step_reopens_lift)
+                                      ///< 1, or 2 where it re-opened the lift too (step_reopens_lift); 3: a step
+                                      ///< older than the detection window, left to the steady gain (late_step_keeps_gain)
 };
 
 /// The columns of a telemetry file: the artifact's state and input names.

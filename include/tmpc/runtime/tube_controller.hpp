@@ -104,6 +104,12 @@
 // its lift, which the re-opened lift reads), and not for an input whose compensation
 // would move a state by more than kInputKick of its bound in one period (a servo's
 // torque moves its rate at once: compensated at once, it kicked the rate the other way).
+// late_step_keeps_gain (on by default, with step_reopens_lift): a step whose GLR onset
+// (every force's class) is the window's oldest period began before the window; the
+// steady gain has been reading it for kStepWindow periods or more, and it keeps that
+// gain (no re-opening, no correction). Re-opened that late, the gains kicked the servo
+// rates: a servo's torque bias detected 0.29 s after its onset, its rate back near zero,
+// swung to 1.47 times its bound once re-opened (README "A step older than the window").
 // Not while the start's schedule runs or within kStepHold periods of a step, not after
 // a softened or fallback period, and only where the noise monitor reads the noise the
 // gain flown is designed for (up to kStepNoiseLevel times it): the re-opened prior's
@@ -153,6 +159,10 @@ struct TubeControllerOptions {
   /// a thrust lost, a servo's torque biased) corrects the filter's prediction by that
   /// step's effect since its onset (below); false: the re-opened gains alone read it.
   bool step_corrects_input = true;
+  /// step_reopens_lift: a step detected after it has left the detection window (its
+  /// onset older than the window) keeps the steady gain, which has been reading it
+  /// (below); false: every step detected re-opens the gains.
+  bool late_step_keeps_gain = true;
   /// Reversion past the linear model's region (a supervisor; off at 0): once a state of
   /// the error (the estimate flown) is past revert_beyond times its bound in X, the tube
   /// gain's unconstrained law u = u_s + K (x_n - x_s) flies every period, counted as a
@@ -204,9 +214,18 @@ struct ControlStep {
   bool step_reopened_lift = false;  ///< that step re-opened the lift too (step_reopens_lift, classified as not horizontal)
   double step_horizontal_glr = 0.0;  ///< that step's GLR difference, every force against the lift's (step_reopens_lift)
   bool step_input = false;  ///< step_corrects_input: that step was read as the actuators' and corrected
+  bool step_late = false;  ///< late_step_keeps_gain: a step was detected older than the detection window and
+                           ///< left to the steady gain (step_detected false)
   double filter_noise_scale = 1.0;  ///< the noise (times the design's) the filter's steady gain is chosen for
                                     ///< (during the filter's start schedule, the one it will fly after)
 };
+
+/// The telemetry's step code of one period: 0 none, 1 a step re-opened the filter's
+/// gains, 2 the lift's too, 3 a step older than the detection window, left to the
+/// steady gain (step_late).
+inline int step_code(const ControlStep& s) {
+  return s.step_detected ? (s.step_reopened_lift ? 2 : 1) : s.step_late ? 3 : 0;
+}
 
 class TubeController {
  public:
