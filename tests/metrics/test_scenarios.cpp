@@ -952,6 +952,8 @@ TEST(Scenarios, ActuatorFaultsTheControllerIsNotToldOfAreFlown) {
   EXPECT_EQ(all.step_late_kept, 0);
   EXPECT_EQ(reopened.step_actuator_corrections, 0);
   EXPECT_GE(reopened.step_lift_reopenings, 1);
+  EXPECT_EQ(reopened.step_detections - reopened.step_lift_reopenings, 1) << "the y step, horizontal";
+  EXPECT_EQ(reopened.step_late_kept, 1) << "the vertical step at 61.02 s";
   EXPECT_EQ(kept.step_lift_reopenings, 0);
   EXPECT_EQ(kept.step_actuator_corrections, 0) << "the actuators' class needs the lift's classification";
   EXPECT_EQ(kept.step_late_kept, 0) << "so does a step left to the steady gain";
