@@ -530,14 +530,16 @@ TEST(ControllerLoop, FliesTheEstimatorItIsGiven) {
   EXPECT_EQ(s.step_max, 0);   // not looked for
   // Mayne's law has no observer; a step option without the step detection is refused.
   EXPECT_EQ(flight_law_options(artifact(), "mayne", {}).offset_free, false);
-  EstimatorChoice both;
-  both.no_step_detection = true;
-  both.step_reopens_lift = false;
-  try {
-    flight_law_options(artifact(), "", both);
-    ADD_FAILURE() << "both step options accepted";
-  } catch (const std::invalid_argument& ex) {
-    EXPECT_NE(std::string(ex.what()).find("step detection"), std::string::npos) << ex.what();
+  for (int option = 0; option < 3; ++option) {
+    EstimatorChoice both;
+    both.no_step_detection = true;
+    (option == 0 ? both.step_reopens_lift : option == 1 ? both.step_corrects_input : both.late_step_keeps_gain) = false;
+    try {
+      flight_law_options(artifact(), "", both);
+      ADD_FAILURE() << "step option " << option << " accepted without the step detection";
+    } catch (const std::invalid_argument& ex) {
+      EXPECT_NE(std::string(ex.what()).find("step detection"), std::string::npos) << ex.what();
+    }
   }
   EstimatorChoice unknown;
   unknown.observer = "luenberger";

@@ -799,9 +799,10 @@ TEST(TubeController, AStepOlderThanTheDetectionWindowKeepsTheSteadyGain) {
                 seed, kept.read - onset, kept.after, reopened.after, same, departs);
     EXPECT_EQ(same, 0.0) << "seed " << seed;
     EXPECT_GT(departs, 0.0) << "seed " << seed;
-    // The README's numbers: 0.50 to 0.62 kept, 1.42 to 1.53 re-opened.
-    EXPECT_LT(kept.after, 0.7) << "seed " << seed;
-    EXPECT_GT(reopened.after, 1.3) << "seed " << seed;
+    // The README's numbers: read 20 to 24 periods late; 0.50 to 0.62 kept, 1.42 to 1.53 re-opened.
+    EXPECT_LE(kept.read - onset, 26) << "seed " << seed;
+    EXPECT_NEAR(kept.after, 0.56, 0.1) << "seed " << seed;
+    EXPECT_NEAR(reopened.after, 1.47, 0.12) << "seed " << seed;
   }
 }
 
