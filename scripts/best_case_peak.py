@@ -34,6 +34,20 @@ window from below for every controller whose errors stay inside the box before i
                horizontal position and speed bounds taken in the turned frame at their
                largest over the arc (also a relaxation). The yaw's own dynamics and the
                second-order terms of turning are not modelled.
+  --yaw-coupled  as --yaw-free, but the force's direction is tied to the model's own yaw
+               error psi(k) (its dynamics, driven by the inputs, bound how fast the
+               vehicle turns): the vehicle turned by psi sees the force f at -psi from
+               where it lies, (along, across) = |f| (cos psi, -sin psi), and each period's
+               (psi, along, across) is held inside that helix's convex hull: the slab
+               |across + |f| psi| <= |f| (psi_max - sin psi_max), the tangents of the
+               concave along = |f| cos psi (9 points; other counts where GLPK's simplex
+               ends "unknown") and its chord. Still a relaxation
+               (a lower bound), tighter than --yaw-free: at psi = 0 the force may shrink
+               by the chord's 1 - cos psi_max (12 % at 0.5 rad) but not turn.
+  --bound STATE VALUE  (repeatable) that state's half-width in the program instead of the
+               box's: what the best controller reaches when it must also keep STATE
+               within VALUE (e.g. the load within 0.3 m of its reference: --bound x 0.3
+               --bound y 0.3); t* is then relative to VALUE for that state.
   --static-tilt  the linear model tilts the rod by F_h / (m_L g) statically, the load
                by atan(F_h / (m_L g - F_z)); with this flag the horizontal force is
                scaled so that the linear static tilt is the rod's true one (an upward
@@ -75,10 +89,44 @@ def _lqr_gain(A, B, iterations=20000, tol=1e-10):
     return K
 
 
-def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest=None):
+def _solve(cost, G, h, A, b):
+    """min cost'z s.t. G z <= h, A z = b (G, A as (values, rows, cols, shape)) by GLPK's
+    simplex: z and the multipliers of G's rows (>= 0); None where the simplex ends
+    "unknown" (a basis it cannot factor well: the caller retries with other tangents)."""
+    sp = lambda m: spmatrix([float(x) for x in m[0]], [int(x) for x in m[1]], [int(x) for x in m[2]], m[3])
+    col = lambda v: matrix([float(x) for x in v])
+    solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF"}
+    sol = solvers.lp(col(cost), sp(G), col(h), sp(A), col(b), solver="glpk")
+    if sol["status"] == "unknown":
+        return None
+    if sol["status"] != "optimal":
+        raise RuntimeError(f"LP: {sol['status']} (GLPK's simplex)")
+    return np.array(sol["x"]).ravel(), np.array(sol["z"]).ravel()
+
+
+# The arc's and the helix's tangents: 9 points, and where GLPK's simplex ends "unknown" on
+# that program (it does on some long windows) the same relaxation with the tangents at
+# other points (each an outer hull of the same curve, all within 1e-6 of each other
+# where more than one solves; measured once).
+TANGENTS = (9, 5, 17, 10)
+
+
+def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest=None, yaw_coupled=False, bounds=None):
+    last = None
+    for tangents in TANGENTS if yaw_arc is not None else TANGENTS[:1]:
+        last = _lp_once(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest, yaw_coupled, bounds,
+                        tangents)
+        if last is not None:
+            return last
+    raise RuntimeError(f"LP: unknown (GLPK's simplex, with the tangents at {', '.join(map(str, TANGENTS))} points)")
+
+
+def _lp_once(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest, yaw_coupled, bounds, tangents):
     """min t over the window; horizontal: per period the (2,) force in the reference's
     heading frame; yaw_arc None or psi_max (the force's direction free on its arc);
-    rest None or (horizontal (2,), force_z): x(0) at rest under that force (free start)."""
+    rest None or (horizontal (2,), force_z): x(0) at rest under that force (free start);
+    yaw_coupled (with yaw_arc): the direction tied to the state psi(k) (the helix's hull);
+    bounds: {state name: half-width} in place of the box's."""
     m = model["matrices"]
     A, B, D = (np.array(m[k]) for k in ("A", "B", "D"))
     T = model["discrete"]["sample_time"]
@@ -90,11 +138,19 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest=None)
     n, nu = B.shape
     H = len(force_z)
     assert rest is None or free_start, "a start at rest is a free start's special case"
+    assert not yaw_coupled or (yaw_arc is not None and free_start), "the coupling turns a free start's force"
     r0 = 0 if rest is None else 1  # the rest force is the force row before the window's first
     if rest is not None:
         horizontal = np.vstack([np.reshape(rest[0], (1, 2)), np.reshape(horizontal, (H, 2))])
         force_z = np.concatenate([[rest[1]], force_z])
     bound = np.array(m["state_error_max"], dtype=float)[:p]
+    i_psi = names.index("psi")
+    for name, value in (bounds or {}).items():
+        if name not in names[:p]:
+            raise ValueError(f"--bound {name}: no such state of the box (the states: {', '.join(names[:p])})")
+        if not value > 0.0:
+            raise ValueError(f"--bound {name} {value}: a half-width must be positive")
+        bound[names.index(name)] = float(value)
     if yaw_arc is not None:  # the reference-frame box seen from a frame turned by up to psi_max:
         # |v_x'| <= max over |psi| <= psi_max of b_x cos psi + b_y |sin psi| (and v_y' alike)
         def widest(b_along, b_across):
@@ -197,37 +253,47 @@ def _lp(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest=None)
                 Gi.append(row); Gj.append(wi(k) + q); Gv.append(1.0); h.append(fh[k + r0, q]); row += 1
                 Gi.append(row); Gj.append(wi(k) + q); Gv.append(-1.0); h.append(-fh[k + r0, q]); row += 1
             continue
+        a = float(np.arctan2(fh[k + r0, 1], fh[k + r0, 0]))
+        if yaw_coupled:  # (psi, along, across) in the hull of r (., cos psi, -sin psi), psi = b_psi xs_psi
+            j_psi, b_psi = xi(max(k, 0)) + i_psi, bound[i_psi]  # w(-1), the rest force, with psi(0)
+            along, across = (np.cos(a), np.sin(a)), (-np.sin(a), np.cos(a))
+            slab = r_k * (yaw_arc - np.sin(yaw_arc))
+            for sign in (1.0, -1.0):  # +-(across + r psi) <= slab
+                Gi += [row] * 3; Gj += [wi(k), wi(k) + 1, j_psi]
+                Gv += [sign * across[0], sign * across[1], sign * r_k * b_psi]; h.append(slab); row += 1
+            for th in np.linspace(-yaw_arc, yaw_arc, tangents):  # along <= r cos th - r sin th (psi - th)
+                Gi += [row] * 3; Gj += [wi(k), wi(k) + 1, j_psi]
+                Gv += [along[0], along[1], r_k * np.sin(th) * b_psi]
+                h.append(r_k * (np.cos(th) + th * np.sin(th))); row += 1
+            Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [-along[0], -along[1]]
+            h.append(-r_k * np.cos(yaw_arc)); row += 1
+            continue
         # The arc {r (cos th, sin th): |th - a| <= psi_max} (the vehicle turned by -+psi:
         # the force turns the other way in its frame, the same arc): inside the tangents
         # at 9 points of it and beyond its chord.
-        a = float(np.arctan2(fh[k + r0, 1], fh[k + r0, 0]))
-        for th in np.linspace(a - yaw_arc, a + yaw_arc, 9):
+        for th in np.linspace(a - yaw_arc, a + yaw_arc, tangents):
             Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [np.cos(th), np.sin(th)]; h.append(r_k); row += 1
         Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [-np.cos(a), -np.sin(a)]
         h.append(-r_k * np.cos(yaw_arc)); row += 1
     cost = np.zeros(nz)
     cost[-1] = 1.0
-    sp = lambda v, i, j, shape: spmatrix([float(x) for x in v], [int(x) for x in i], [int(x) for x in j], shape)
-    col = lambda v: matrix([float(x) for x in v])
-    solvers.options["glpk"] = {"msg_lev": "GLP_MSG_OFF"}
-    sol = solvers.lp(col(cost), sp(Gv, Gi, Gj, (row, nz)), col(h), sp(Av, Ai, Aj, (n_eq, nz)), col(b), solver="glpk")
-    if sol["status"] != "optimal":
-        raise RuntimeError(f"LP: {sol['status']} (GLPK's simplex)")
-    z = np.array(sol["x"]).ravel()
+    solved = _solve(cost, (Gv, Gi, Gj, (row, nz)), h, (Av, Ai, Aj, (n_eq, nz)), b)
+    if solved is None:
+        return None
+    z, duals = solved
     # The binding bound: the box row of the largest multiplier (the optimum reaches t*
     # in many places, most of them free; the multipliers say which ones force it).
-    duals = np.array(sol["z"]).ravel()[:n_box]
-    j = int(np.argmax(duals))
+    j = int(np.argmax(duals[:n_box]))
     k, i = j // (2 * p) + k0, (j % (2 * p)) // 2
     return float(z[-1]), names[i], k * T
 
 
-def best_case_peak(model, force, horizon_s):
+def best_case_peak(model, force, horizon_s, bounds=None):
     """After a step F from zero error over horizon_s (the period after the step first)."""
     T = model["discrete"]["sample_time"]
     H = int(round(horizon_s / T))
     f = np.asarray(force, dtype=float)
-    t, state, when = _lp(model, np.full(H, f[2]), np.tile(f[:2], (H, 1)), False, None, False)
+    t, state, when = _lp(model, np.full(H, f[2]), np.tile(f[:2], (H, 1)), False, None, False, bounds=bounds)
     return {"peak": t, "binding_state": state, "binding_time": when, "horizon_s": H * T,
             "force": list(map(float, force)), "vehicle": model.get("vehicle", {})}
 
@@ -244,7 +310,8 @@ def read_forces(path):
     return data
 
 
-def best_case_window(model, forces, window, yaw_free=False, static_tilt=False, at_rest=False):
+def best_case_window(model, forces, window, yaw_free=False, static_tilt=False, at_rest=False, yaw_coupled=False,
+                     bounds=None):
     """Over [T0, T1) of a force series, x(T0) free in the scaled box (at_rest: at rest under
     the force of the period before T0): the peak's lower bound."""
     T = model["discrete"]["sample_time"]
@@ -262,11 +329,11 @@ def best_case_window(model, forces, window, yaw_free=False, static_tilt=False, a
     rest = (horizontal[0], seg[0, 3]) if at_rest else None
     horizontal, seg = horizontal[k0 - before:], seg[k0 - before:]
     psi_max = None
-    if yaw_free:
+    if yaw_free or yaw_coupled:
         psi_max = float(model["matrices"]["state_error_max"][model["matrices"]["state_names"].index("psi")])
-    t, state, when = _lp(model, seg[:, 3], horizontal, True, psi_max, static_tilt, rest)
+    t, state, when = _lp(model, seg[:, 3], horizontal, True, psi_max, static_tilt, rest, yaw_coupled, bounds)
     return {"peak": t, "binding_state": state, "binding_time": forces[k0, 0] + when, "window": list(window),
-            "yaw_free": yaw_free, "static_tilt": static_tilt, "at_rest": at_rest, "vehicle": model.get("vehicle", {})}
+            "yaw_free": yaw_free, "yaw_coupled": yaw_coupled, "static_tilt": static_tilt, "at_rest": at_rest, "vehicle": model.get("vehicle", {})}
 
 
 def main():
@@ -277,34 +344,49 @@ def main():
     ap.add_argument("--forces", help="a force series (tmpc check --forces) instead of the step")
     ap.add_argument("--window", nargs=2, type=float, metavar=("T0", "T1"), help="s of the series (with --forces)")
     ap.add_argument("--yaw-free", action="store_true", help="with --forces: the vehicle may turn within psi's bound")
+    ap.add_argument("--yaw-coupled", action="store_true",
+                    help="with --forces: as --yaw-free, the force's direction tied to the model's yaw error")
     ap.add_argument("--static-tilt", action="store_true", help="with --forces: the force scaled to the true static tilt")
     ap.add_argument("--at-rest", action="store_true",
                     help="with --forces: the window starts at rest under the force before it")
+    ap.add_argument("--bound", nargs=2, action="append", metavar=("STATE", "VALUE"), default=[],
+                    help="that state's half-width instead of the box's (repeatable)")
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
     if (a.forces is None) != (a.window is None):
         sys.exit("--forces and --window go together")
-    if a.forces is None and (a.yaw_free or a.static_tilt or a.at_rest):
-        sys.exit("--yaw-free, --static-tilt and --at-rest need --forces")
+    if a.forces is None and (a.yaw_free or a.yaw_coupled or a.static_tilt or a.at_rest):
+        sys.exit("--yaw-free, --yaw-coupled, --static-tilt and --at-rest need --forces")
+    if a.yaw_free and a.yaw_coupled:
+        sys.exit("--yaw-free and --yaw-coupled exclude each other (the coupling is the tighter form)")
     with open(a.model) as fh:
         model = json.load(fh)
     if "matrices" not in model:
         sys.exit(f"{a.model}: no matrices (run tmpc model with --json --matrices)")
+    bounds = {}
+    for name, value in a.bound:
+        try:
+            bounds[name] = float(value)
+        except ValueError:
+            sys.exit(f"--bound {name} {value}: not a number")
     try:
         if a.forces is None:
-            r = best_case_peak(model, a.force, a.horizon)
+            r = best_case_peak(model, a.force, a.horizon, bounds)
         else:
-            r = best_case_window(model, read_forces(a.forces), a.window, a.yaw_free, a.static_tilt, a.at_rest)
+            r = best_case_window(model, read_forces(a.forces), a.window, a.yaw_free, a.static_tilt, a.at_rest,
+                                 a.yaw_coupled, bounds)
+        r["bounds"] = bounds
     except (ValueError, RuntimeError) as e:
         sys.exit(str(e))
     if a.json:
         print(json.dumps(r))
     elif a.forces is None:
-        print(f"best case after a {r['force']} N step over {r['horizon_s']:.2f} s: peak {r['peak']:.4f} of the "
+        print(f"best case after a {r['force']} N step over {r['horizon_s']:.2f} s"
+              f"{''.join(f', {k} within {v:g}' for k, v in bounds.items())}: peak {r['peak']:.4f} of the "
               f"bounds (binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
     else:
-        how = ("yaw free" if a.yaw_free else "yaw held") + (", static tilt calibrated" if a.static_tilt else "") + \
-            (", from rest" if a.at_rest else "")
+        how = ("yaw free" if a.yaw_free else "yaw coupled" if a.yaw_coupled else "yaw held") + (", static tilt calibrated" if a.static_tilt else "") + \
+            (", from rest" if a.at_rest else "") + "".join(f", {k} within {v:g}" for k, v in bounds.items())
         print(f"best case over {a.window[0]} to {a.window[1]} s ({how}): peak {r['peak']:.4f} of the bounds "
               f"(binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
 
