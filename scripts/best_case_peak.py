@@ -6,8 +6,8 @@ bound to compare a flight's violations against.
     tmpc model --config C [--scenario S --run K] --json --matrices > model.json
     scripts/best_case_peak.py model.json --force 1 0 0 [--horizon 2.0]
     tmpc check --controller A --scenario S --forces forces.csv
-    scripts/best_case_peak.py model.json --forces forces.csv --window 62 80 [--yaw-free] [--static-tilt]
-                              [--at-rest]
+    scripts/best_case_peak.py model.json --forces forces.csv --window 62 80 [--yaw-free | --yaw-coupled]
+                              [--static-tilt] [--at-rest] [--bound STATE VALUE ...]
 
 A step (--force): from zero error, the force F (N, on the load) acts from period 0 on;
 the inputs over the horizon are free within the actuator limits (u_eq + u in
