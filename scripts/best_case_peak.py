@@ -270,7 +270,7 @@ def _lp_once(model, force_z, horizontal, free_start, yaw_arc, static_tilt, rest,
             continue
         # The arc {r (cos th, sin th): |th - a| <= psi_max} (the vehicle turned by -+psi:
         # the force turns the other way in its frame, the same arc): inside the tangents
-        # at 9 points of it and beyond its chord.
+        # at `tangents` points of it (TANGENTS) and beyond its chord.
         for th in np.linspace(a - yaw_arc, a + yaw_arc, tangents):
             Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [np.cos(th), np.sin(th)]; h.append(r_k); row += 1
         Gi += [row, row]; Gj += [wi(k), wi(k) + 1]; Gv += [-np.cos(a), -np.sin(a)]
@@ -333,7 +333,8 @@ def best_case_window(model, forces, window, yaw_free=False, static_tilt=False, a
         psi_max = float(model["matrices"]["state_error_max"][model["matrices"]["state_names"].index("psi")])
     t, state, when = _lp(model, seg[:, 3], horizontal, True, psi_max, static_tilt, rest, yaw_coupled, bounds)
     return {"peak": t, "binding_state": state, "binding_time": forces[k0, 0] + when, "window": list(window),
-            "yaw_free": yaw_free, "yaw_coupled": yaw_coupled, "static_tilt": static_tilt, "at_rest": at_rest, "vehicle": model.get("vehicle", {})}
+            "yaw_free": yaw_free, "yaw_coupled": yaw_coupled, "static_tilt": static_tilt, "at_rest": at_rest,
+            "vehicle": model.get("vehicle", {})}
 
 
 def main():
@@ -385,8 +386,9 @@ def main():
               f"{''.join(f', {k} within {v:g}' for k, v in bounds.items())}: peak {r['peak']:.4f} of the "
               f"bounds (binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
     else:
-        how = ("yaw free" if a.yaw_free else "yaw coupled" if a.yaw_coupled else "yaw held") + (", static tilt calibrated" if a.static_tilt else "") + \
-            (", from rest" if a.at_rest else "") + "".join(f", {k} within {v:g}" for k, v in bounds.items())
+        how = ("yaw free" if a.yaw_free else "yaw coupled" if a.yaw_coupled else "yaw held") + \
+            (", static tilt calibrated" if a.static_tilt else "") + (", from rest" if a.at_rest else "") + \
+            "".join(f", {k} within {v:g}" for k, v in bounds.items())
         print(f"best case over {a.window[0]} to {a.window[1]} s ({how}): peak {r['peak']:.4f} of the bounds "
               f"(binding: {r['binding_state']} at {r['binding_time']:.3f} s)")
 

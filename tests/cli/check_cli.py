@@ -343,8 +343,8 @@ elif check == "best-case":
             fh.write(f"{0.012 * k},{2.4 * math.cos(a)},{2.4 * math.sin(a)},0,0\n")
     peaks = {}
     for how in ("held", "--yaw-free", "--yaw-coupled"):
-        p = subprocess.run([sys.executable, script, nominal, "--forces", switch, "--window", "1.0", "4.0", "--static-tilt",
-                            "--at-rest", "--json", *([] if how == "held" else [how])],
+        p = subprocess.run([sys.executable, script, nominal, "--forces", switch, "--window", "1.0", "4.0",
+                            "--static-tilt", "--at-rest", "--json", *([] if how == "held" else [how])],
                            capture_output=True, text=True, timeout=600)
         need(p.returncode == 0, f"switch {how}: {p.stderr}")
         if p.returncode == 0:
