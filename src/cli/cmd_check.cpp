@@ -72,6 +72,12 @@ int run_check(const CheckOptions& o) {
                      {"static_peak_best_yaw_time", f.static_peak_best_yaw_time},
                      {"static_outside_best_yaw_s", f.static_outside_best_yaw}, {"certified_windows", w},
                      {"certified_windows_reference_yaw", wy}};
+      if (std::isfinite(f.yaw_window_min)) {
+        j["forces"]["yaw_window"] = {{"width", f.yaw_window_min},
+                                     {"time", f.yaw_window_time},
+                                     {"first", f.yaw_window_first},
+                                     {"last", f.yaw_window_last}};
+      }
     }
     std::printf("%s\n", j.dump(2).c_str());
   } else {

@@ -180,12 +180,27 @@ ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Traj
         rep.static_peak_state = angle_name[i];
       }
     }
-    if (std::max(ratio[0], ratio[1]) > 1.0) rep.static_outside += T;
+    const bool outside = std::max(ratio[0], ratio[1]) > 1.0;
+    if (outside) rep.static_outside += T;
     double best = std::max(ratio[0], ratio[1]);
     if (best <= std::min(1.0, rep.static_peak_best_yaw)) continue;  // the yaw cannot raise either figure
+    int inside = 0;  // yaws of the grid that bring an outside tilt inside
+    double first = 0.0, last = 0.0;
     for (int j = 0; j <= kYaws; ++j) {
-      ratios(eta[kk](2) + bound[2] * (2.0 * j / kYaws - 1.0), ratio);
+      const double turn = bound[2] * (2.0 * j / kYaws - 1.0);
+      ratios(eta[kk](2) + turn, ratio);
       best = std::min(best, std::max(ratio[0], ratio[1]));
+      if (outside && std::max(ratio[0], ratio[1]) <= 1.0) {
+        if (inside++ == 0) first = turn;
+        last = turn;
+      }
+    }
+    const double window = inside * 2.0 * bound[2] / kYaws;
+    if (outside && window < rep.yaw_window_min) {
+      rep.yaw_window_min = window;
+      rep.yaw_window_time = static_cast<double>(k) * T;
+      rep.yaw_window_first = first;
+      rep.yaw_window_last = last;
     }
     if (best > rep.static_peak_best_yaw) {
       rep.static_peak_best_yaw = best;
@@ -230,6 +245,10 @@ ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Traj
      << " bound (t = " << rep.static_peak_time << " s), outside the box for " << rep.static_outside
      << " s; at the best yaw within psi's bound up to " << rep.static_peak_best_yaw << " (t = "
      << rep.static_peak_best_yaw_time << " s), outside for " << rep.static_outside_best_yaw << " s; ";
+  if (std::isfinite(rep.yaw_window_min)) {
+    os << "the yaws that bring it inside span at least " << rep.yaw_window_min << " rad (t = " << rep.yaw_window_time
+       << " s: from " << rep.yaw_window_first << " to " << rep.yaw_window_last << " rad off the reference); ";
+  }
   auto windows = [&](const std::vector<ForceWindow>& w) {
     os << w.size() << " disjoint window(s)";
     if (!w.empty()) os << " (first " << w[0].start << " to " << w[0].end << " s)";

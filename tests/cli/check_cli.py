@@ -139,6 +139,12 @@ elif check == "preflight":
     # The best yaw: 4 N stays outside the box even with the vehicle turned (README).
     need(abs(j["forces"]["static_peak_best_yaw"] - 1.249) < 2e-3 and j["forces"]["static_outside_best_yaw_s"] > 69.9
          and j["forces"]["static_peak_best_yaw"] <= j["forces"]["static_peak"], f"4 N, best yaw: {j}")
+    need(j["forces"]["yaw_window"]["width"] == 0.0, f"4 N: a yaw that holds it inside: {j}")
+    j = json.loads(run("check", "--controller", art, "--scenario", scenarios + "gusts.yaml", "--json").stdout)
+    w = j["forces"].get("yaw_window", {})
+    need(abs(w.get("width", -1) - 0.1415) < 2e-3 and w["first"] < w["last"], f"gusts: the yaw window: {j}")
+    j = json.loads(run("check", "--controller", art, "--scenario", scenarios + "thesis_helix.yaml", "--json").stdout)
+    need("yaw_window" not in j["forces"], f"helix: a yaw window where the tilt stays inside: {j}")
     p = run("check", "--controller", art, "--scenario", scenarios + "thesis_helix.yaml")
     need("\nforces on the load: static tilt up to 0.50" in p.stdout and "WARNING" not in p.stdout, f"helix: {p.stdout}")
     fast = os.path.join(scratch, "fast_eight.yaml")

@@ -22,6 +22,7 @@
 // force's mean taken at the sample instants.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,15 @@ struct ForceEnvelopeReport {
   double static_peak_best_yaw = 0.0;
   double static_peak_best_yaw_time = 0.0;  ///< s
   double static_outside_best_yaw = 0.0;    ///< s
+  /// How precisely the yaw must be held where the reference yaw's static tilt is
+  /// outside the box: per such period the measure of the yaws within psi's bound that
+  /// bring it inside (the grid's count times its step, 5e-4 rad at a 0.5 rad bound);
+  /// the smallest over the flight, when, and that window's first and last yaw inside
+  /// (from the reference yaw; the window may have a gap). 0 where no yaw brings it
+  /// inside; infinite (and not reported) where the reference yaw's tilt never leaves.
+  double yaw_window_min = std::numeric_limits<double>::infinity();  ///< rad
+  double yaw_window_time = 0.0;                                      ///< s
+  double yaw_window_first = 0.0, yaw_window_last = 0.0;              ///< rad
   /// Disjoint windows, each certified to hold an instant with the rod outside the box
   /// for every controller (earliest first; at most one violation apiece is implied).
   std::vector<ForceWindow> certified;
