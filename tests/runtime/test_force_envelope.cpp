@@ -197,7 +197,7 @@ TEST(ForceEnvelope, HalfTheGustSeedsPushTheStaticTiltOutOfTheBox) {
     }
     EXPECT_TRUE(r.certified.empty()) << seed;
     // README: how precisely the yaw must be held where the reference yaw's tilt is
-    // outside: 0.14 rad of yaws or more in five seeds, 0.02 rad (1.2 degrees, -0.209 to
+    // outside: 0.13 to 0.32 rad of yaws in five seeds, 0.02 rad (1.2 degrees, -0.209 to
     // -0.189 rad off the reference, at 62.96 s) in seed 6.
     if (r.static_outside > 0.0) {
       std::printf("  the narrowest yaw window %.4f rad at %.2f s (%.3f to %.3f)\n", r.yaw_window_min, r.yaw_window_time,
@@ -208,6 +208,7 @@ TEST(ForceEnvelope, HalfTheGustSeedsPushTheStaticTiltOutOfTheBox) {
         EXPECT_NEAR(r.yaw_window_last, -0.189, 2e-3);
       } else {
         EXPECT_GT(r.yaw_window_min, 0.13) << seed;
+        EXPECT_LT(r.yaw_window_min, 0.325) << seed;
       }
     } else {
       EXPECT_TRUE(std::isinf(r.yaw_window_min)) << seed;
