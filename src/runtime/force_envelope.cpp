@@ -189,8 +189,9 @@ ForceEnvelopeReport check_force_envelope(const ControllerArtifact& a, const Traj
     for (int j = 0; j <= kYaws; ++j) {
       const double turn = bound[2] * (2.0 * j / kYaws - 1.0);
       ratios(eta[kk](2) + turn, ratio);
-      best = std::min(best, std::max(ratio[0], ratio[1]));
-      if (outside && std::max(ratio[0], ratio[1]) <= 1.0) {
+      const double larger = std::max(ratio[0], ratio[1]);
+      best = std::min(best, larger);
+      if (outside && larger <= 1.0) {
         if (inside++ == 0) first = turn;
         last = turn;
       }

@@ -142,7 +142,8 @@ elif check == "preflight":
     need(j["forces"]["yaw_window"]["width"] == 0.0, f"4 N: a yaw that holds it inside: {j}")
     j = json.loads(run("check", "--controller", art, "--scenario", scenarios + "gusts.yaml", "--json").stdout)
     w = j["forces"].get("yaw_window", {})
-    need(abs(w.get("width", -1) - 0.1415) < 2e-3 and w["first"] < w["last"], f"gusts: the yaw window: {j}")
+    need(abs(w.get("width", -1) - 0.1415) < 2e-3 and abs(w["first"] - 0.254) < 2e-3 and abs(w["last"] - 0.395) < 2e-3
+         and abs(w["time"] - 70.97) < 0.05, f"gusts: the yaw window (README: 0.254 to 0.395 rad at 70.97 s): {j}")
     j = json.loads(run("check", "--controller", art, "--scenario", scenarios + "thesis_helix.yaml", "--json").stdout)
     need("yaw_window" not in j["forces"], f"helix: a yaw window where the tilt stays inside: {j}")
     p = run("check", "--controller", art, "--scenario", scenarios + "thesis_helix.yaml")
