@@ -98,6 +98,7 @@ TubeController::TubeController(const ControllerArtifact& a, std::unique_ptr<QpSo
       }
       E_c_ = a.estimator_E_c;
       rows_ = a.estimator_rows;
+      prior_refuted_.assign(static_cast<std::size_t>(n), 0);
       xi_ = xi_pred_ = Eigen::VectorXd::Zero(k.A_a.rows());
       x_hat_ = Eigen::VectorXd::Zero(n);
       innov_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_.size()));
@@ -218,13 +219,15 @@ void TubeController::reset(const Eigen::VectorXd& x_tilde) {
   if (kalman_) {
     // The filter starts from the prior of a vehicle on its reference (zero error, no
     // disturbance) and takes the first measurement through its gain like every later
-    // one; the nominal state starts at that first estimate (in prepare()). Starting at
-    // the raw measurement put its noise into the nominal trajectory, which the QP then
-    // flew: a servo-rate kick of 1.4 times its bound in the first 0.1 s. A row the first
-    // measurement puts far outside its noise starts at that measurement (prepare()).
+    // one; the nominal state starts on that prior (in prepare()). Starting at the raw
+    // measurement put its noise into the nominal trajectory, which the QP then flew: a
+    // servo-rate kick of 1.4 times its bound in the first 0.1 s (at the first estimate:
+    // 1.003 times at twice the design noise). A row the first measurement puts far
+    // outside its noise starts at that measurement, filter and nominal (prepare()).
     xi_.setZero();
     x_hat_.setZero();
     from_prior_ = true;
+    std::fill(prior_refuted_.begin(), prior_refuted_.end(), 0);
     kf_step_ = 0;
   }
   d_hat_.setZero();
@@ -434,6 +437,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
         if (kind != StateKind::Position && kind != StateKind::Yaw) continue;
         if (std::abs(x_n_(r) - xi_pred_(r)) > kPriorGate_sigmas * a_.estimator_noise(static_cast<Eigen::Index>(j))) {
           xi_pred_(r) = x_n_(r);
+          prior_refuted_[static_cast<std::size_t>(r)] = 1;
         }
       }
     } else {
@@ -470,7 +474,17 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
       x_n_ = w_ * x_hat_ + (1.0 - w_) * y_;  // blended with the residual observer's below
     }
     if (from_prior_) {
+      // The nominal starts on the prior (the reference) wherever the first measurement
+      // did not refute it, at the estimate where it did, and at the integrals. The first
+      // estimate is the prior moved by L_0 times one noisy sample: a nominal started
+      // there had the QP plan on that sample's noise (its first input 0.004 N m of servo
+      // torque where the noise-free start asks none, a servo rate 1.003 times its bound
+      // at twice the design noise); started on the prior, the tube gain, designed against
+      // the noise, carries that deviation.
       x_bar_ = x_hat_;
+      for (Eigen::Index i = 0; i < p; ++i) {
+        if (!prior_refuted_[static_cast<std::size_t>(i)]) x_bar_(i) = 0.0;
+      }
       from_prior_ = false;
     }
   }
@@ -507,6 +521,7 @@ const Eigen::VectorXd& TubeController::prepare(const Eigen::VectorXd& x_tilde, b
   out_.tube_ratio = (dev_.array() / (z_half_.array() + 1e-300)).maxCoeff(&worst);
   out_.tube_worst = static_cast<int>(worst);
   out_.x_bar = x_bar_;
+  out_.x_tilde = x_n_;
   out_.d_hat = d_hat_;
   if (!opt_.offset_free && !rate_) return x_bar_;
   theta_.head(a_.n) = x_bar_ - x_s_;  // x_s = 0 without the observer

@@ -192,6 +192,7 @@ struct ControlStep {
   Eigen::VectorXd u;                                ///< applied input (physical, clipped)
   Eigen::VectorXd u_bar;                            ///< nominal input u_bar(0), physical error units
   Eigen::VectorXd x_bar;                            ///< nominal state used (normalized)
+  Eigen::VectorXd x_tilde;  ///< the state estimate flown (normalized): the filter's, the measurement or a blend
   SolveStatus status = SolveStatus::Converged;
   int iterations = 0;
   double solve_us = 0.0;
@@ -296,6 +297,7 @@ class TubeController {
   bool kalman_ = false;  ///< the filter runs (observer kalman or switched)
   bool rate_ = false;  ///< the artifact's QP has an input-rate weight: theta ends with v_prev - u_s
   bool from_prior_ = false;  // the Kalman filter starts from its prior at the next prepare()
+  std::vector<char> prior_refuted_;  ///< per state: the first measurement refuted the prior (nominal starts there)
   Eigen::MatrixXd A_a_, B_a_, L_kf_, E_c_;
   // The filter's start (artifact.estimator_start): the time-varying gains of its first
   // periods after reset(), then L_kf_; kf_step_ counts the filter's updates since.
