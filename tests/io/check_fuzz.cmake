@@ -7,12 +7,11 @@ endif()
 file(REMOVE_RECURSE ${OUT}/corpus)
 file(MAKE_DIRECTORY ${OUT}/corpus)
 set(common -std=c++17 -I${SRC}/include ${SRC}/src/io/protocol.cpp ${SRC}/src/model/checksum.cpp)
-execute_process(COMMAND ${CLANG} -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-                        ${SRC}/tests/io/fuzz_protocol.cpp ${common} -o ${OUT}/fuzz_protocol
-                RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "building the fuzz target failed:\n${err}")
-endif()
+include(${SRC}/tests/fuzz_build.cmake)
+fuzz_build(EXE ${OUT}/fuzz_protocol OBJDIR ${OUT}/obj
+           FLAGS -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+                 -I${SRC}/include
+           SOURCES ${SRC}/tests/io/fuzz_protocol.cpp ${SRC}/src/io/protocol.cpp ${SRC}/src/model/checksum.cpp)
 execute_process(COMMAND ${CLANG} -O1 ${SRC}/tests/io/fuzz_seeds.cpp ${common} -o ${OUT}/fuzz_seeds
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)

@@ -41,13 +41,12 @@ if(NOT CLP_DIR)
   message(FATAL_ERROR "CLP headers not found")
 endif()
 # -gline-tables-only: file and line in a report, a fifth less compile time than -g.
-execute_process(COMMAND ${CLANG} -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-                        -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR} -isystem ${CLP_DIR}
-                        ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs} -lyaml-cpp -lClp -lCoinUtils -o ${OUT}/fuzz_artifact
-                RESULT_VARIABLE rc ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "building the artifact fuzz target failed:\n${err}")
-endif()
+include(${SRC}/tests/fuzz_build.cmake)
+fuzz_build(EXE ${OUT}/fuzz_artifact OBJDIR ${OUT}/obj
+           FLAGS -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+                 -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR} -isystem ${CLP_DIR}
+           SOURCES ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs}
+           LIBS -lyaml-cpp -lClp -lCoinUtils)
 execute_process(COMMAND ${OUT}/fuzz_artifact -max_total_time=${SECONDS} -runs=200000 -seed=1 -max_len=2000000
                         -rss_limit_mb=4096 ${OUT}/corpus
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
