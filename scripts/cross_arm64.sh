@@ -80,16 +80,34 @@ cp "$(ls -t build/tests/noisy@*.tmpc | head -1)" "$art/noisy.tmpc"
 # (a three-line C program hangs; the multiarch libc runs the same binary's threads).
 qemu=(qemu-aarch64)
 failed=0
+# Each executable in as many gtest shards as there are cores, run at once (qemu-user
+# emulates one thread on one core; the tests are independent: ctest runs them in
+# parallel on the host).
+shards=$(nproc)
 for entry in "${tests[@]}"; do
   t="${entry%%:*}"
   filter=()
   [ "$t" != "$entry" ] && filter=(--gtest_filter="${entry#*:}")
   s=$(date +%s)
-  if TMPC_TEST_ARTIFACTS="$PWD/$art" timeout 900 "${qemu[@]}" "build-arm64/tests/$t" --gtest_brief=1 "${filter[@]}" \
-      > "build-arm64/$t.log" 2>&1; then
-    echo "=== arm64: $t passed under qemu ($(grep -o '[0-9]* tests\? from' "build-arm64/$t.log" | tail -1 | cut -d' ' -f1) tests, $(( $(date +%s) - s )) s)"
+  pids=()
+  for ((i = 0; i < shards; i++)); do
+    GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i TMPC_TEST_ARTIFACTS="$PWD/$art" timeout 900 "${qemu[@]}" \
+      "build-arm64/tests/$t" --gtest_brief=1 "${filter[@]}" > "build-arm64/$t.$i.log" 2>&1 &
+    pids+=($!)
+  done
+  ok=1
+  for pid in "${pids[@]}"; do wait "$pid" || ok=0; done
+  ran=0
+  for ((i = 0; i < shards; i++)); do
+    n=$(grep -o '[0-9]* tests\? from' "build-arm64/$t.$i.log" | tail -1 | cut -d' ' -f1 || true)
+    ran=$((ran + ${n:-0}))
+  done
+  if [ "$ok" = 1 ] && [ "$ran" -gt 0 ]; then
+    echo "=== arm64: $t passed under qemu ($ran tests in $shards shards, $(( $(date +%s) - s )) s)"
   else
-    echo "=== arm64: $t FAILED under qemu ($(( $(date +%s) - s )) s):"; tail -30 "build-arm64/$t.log"; failed=1
+    echo "=== arm64: $t FAILED under qemu ($ran tests ran, $(( $(date +%s) - s )) s):"
+    for ((i = 0; i < shards; i++)); do tail -30 "build-arm64/$t.$i.log"; done
+    failed=1
   fi
 done
 
