@@ -1,6 +1,7 @@
 # Build the artifact loader's libFuzzer target with clang (ASan + UBSan) from the
 # sources it needs, seed it with the payload of a quick real design, and fuzz for a
-# bounded time (each accepted input runs the semantic checks: a few ms).
+# bounded time (each accepted input runs the semantic checks: about half a second for the
+# 4 MB seed, 97 % of it the RPI zonotope's generators; 102 runs, 14 accepted, in 60 s here).
 #   cmake -DCLANG=clang++ -DTMPC=<tmpc executable> -DSRC=<source dir> -DOUT=<scratch dir> [-DSECONDS=N] -P ...
 if(NOT SECONDS)
   set(SECONDS 60)
@@ -47,7 +48,10 @@ fuzz_build(EXE ${OUT}/fuzz_artifact OBJDIR ${OUT}/obj
                  -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR} -isystem ${CLP_DIR}
            SOURCES ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs}
            LIBS -lyaml-cpp -lClp -lCoinUtils)
-execute_process(COMMAND ${OUT}/fuzz_artifact -max_total_time=${SECONDS} -runs=200000 -seed=1 -max_len=2000000
+# -max_len: the seed's size (libFuzzer truncates longer corpus files to it, and a
+# truncated payload never passes the record parser).
+file(SIZE ${OUT}/corpus/design seed_bytes)
+execute_process(COMMAND ${OUT}/fuzz_artifact -max_total_time=${SECONDS} -runs=200000 -seed=1 -max_len=${seed_bytes}
                         -rss_limit_mb=4096 ${OUT}/corpus
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
@@ -58,4 +62,9 @@ string(REGEX MATCH "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" cov "${err
 if(NOT done)
   message(FATAL_ERROR "the artifact fuzzer did not report its runs:\n${err}")
 endif()
-message(STATUS "fuzz_artifact: ${done} (${cov})")
+string(REGEX MATCH "fuzz_artifact: ([0-9]+) inputs accepted" accepted "${err}")
+if(NOT accepted OR CMAKE_MATCH_1 EQUAL 0)
+  message(FATAL_ERROR "the artifact fuzzer accepted no input (not even the seed, ${seed_bytes} bytes): it fuzzed "
+                      "the header parser only:\n${err}")
+endif()
+message(STATUS "fuzz_artifact: ${done} (${cov}; ${accepted}; seed ${seed_bytes} bytes)")

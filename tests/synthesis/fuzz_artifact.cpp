@@ -3,9 +3,13 @@
 // payload (the records); the harness writes the header (magic, version, length) and
 // the CRC-32 around it, so the fuzzer reaches the record parser and the semantic checks
 // behind the checksum. Nothing may crash (ASan, UBSan) or escape but ArtifactError, and
-// an accepted artifact must serialize back to the same bytes.
+// an accepted artifact must serialize back to the same bytes. At exit it prints how many
+// inputs were accepted: the check fails on none (a seed the loader refuses, or one
+// libFuzzer truncated to -max_len, fuzzes the header parser only).
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <vector>
@@ -19,6 +23,10 @@ void require(bool ok) {
   if (!ok) __builtin_trap();
 }
 
+std::size_t accepted = 0;
+
+void report_accepted() { std::fprintf(stderr, "fuzz_artifact: %zu inputs accepted\n", accepted); }
+
 void put_le(std::vector<std::uint8_t>& b, std::uint64_t v, int bytes) {
   for (int i = 0; i < bytes; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
@@ -26,6 +34,8 @@ void put_le(std::vector<std::uint8_t>& b, std::uint64_t v, int bytes) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const bool registered = std::atexit(report_accepted) == 0;
+  require(registered);
   std::vector<std::uint8_t> file = {'T', 'M', 'P', 'C', 'A', 'R', 'T', '\0'};
   put_le(file, tmpc::kArtifactVersion, 4);
   put_le(file, size, 8);
@@ -40,5 +50,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     require(false);  // any other exception is a loader bug
   }
   require(tmpc::serialize_artifact(a) == file);
+  ++accepted;
   return 0;
 }
