@@ -45,7 +45,10 @@ echo "=== arm64: packages ready in $(( $(date +%s) - t0 )) s"
 
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
-cmake -S . -B build-arm64 "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
+# ccache keys on the compiler too: the cross objects never mix with the host's.
+launcher=()
+command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake -S . -B build-arm64 "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake -DTMPC_TARGET_CPU="$cpu" \
   -DTMPC_WITH_CUDA=OFF -DTMPC_WITH_MUJOCO=OFF -DTMPC_BUILD_BENCH=OFF >/dev/null
 # The solvers tests of a second or less on the host: the exact ADMM, the active-set's
