@@ -111,9 +111,37 @@ void check_filter_covariances(const Checker& c, const ControllerArtifact& a) {
   }
 }
 
+/// The QP in a form the runtime builds (artifact.qp(offset_free, soft): controller_solver.cpp),
+/// built as it will be: a record the builders refuse refuses the artifact here, with their message.
+MpcQpData built_qp(const std::string& source, const ControllerArtifact& a, bool offset_free, bool soft) {
+  try {
+    return a.qp(offset_free, soft);
+  } catch (const std::exception& e) {
+    throw ArtifactError(source + ": the QP" + (offset_free ? " around the disturbance's steady state" : "") +
+                        (soft ? " with soft constraints" : "") + " cannot be built from the records: " + e.what());
+  }
+}
+
+void check_records(const ControllerArtifact& a, const std::string& source);
+
 }  // namespace
 
 void check_artifact(const ControllerArtifact& a, const std::string& source) {
+  // Every refusal is an ArtifactError naming the file: a check's own computation that
+  // throws (an Eigen size, a builder's precondition) on records no check foresaw refuses
+  // the artifact too, instead of escaping the loader as another exception.
+  try {
+    check_records(a, source);
+  } catch (const ArtifactError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ArtifactError(source + ": the records could not be checked: " + e.what());
+  }
+}
+
+namespace {
+
+void check_records(const ControllerArtifact& a, const std::string& source) {
   const Checker c(source);
   // Dimensions the runtime supports, and every record consistent with them.
   const bool tilt = a.model == ModelKind::Tiltrotor;
@@ -185,7 +213,7 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   }
   c.symmetric_psd("L", a.L, false);
   c.symmetric_psd("P_lqr", a.P_lqr, true);
-  const MpcQpData qp = a.qp();
+  const MpcQpData qp = built_qp(source, a, false, false);
   if (Eigen::LLT<Eigen::MatrixXd>(qp.H).info() != Eigen::Success) {
     c.fail("Sigma_lambda", "the QP Hessian H = 2 (P'W_x P + W_u) is not positive definite: the cost is not strictly convex");
   }
@@ -237,6 +265,8 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   if (a.soft_constraints && !(a.soft_penalty > 0.0)) {
     c.fail("soft_penalty", "is 0 with soft constraints on: calibrate it (tmpc design runs calibrate_soft_penalty) or configure soft_constraints.penalty");
   }
+  if (a.tube_law.offset_free) built_qp(source, a, true, false);
+  if (a.soft_constraints) built_qp(source, a, a.tube_law.offset_free, true);
   // The embedded configuration: valid, and the records are the design it describes.
   Config cfg;
   try {
@@ -318,5 +348,7 @@ void check_artifact(const ControllerArtifact& a, const std::string& source) {
   for (int i = 0; i < 4; ++i) c.near("u_eq", a.u_eq(i), eq.u(i), 1e-6, "the hover input of the embedded vehicle");
   for (int i = 0; i < 4; ++i) c.near("angles_eq", a.angles_eq(i), eq.angles(i), 1e-6, "the hover angles of the embedded vehicle");
 }
+
+}  // namespace
 
 }  // namespace tmpc

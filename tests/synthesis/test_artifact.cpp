@@ -307,6 +307,17 @@ TEST(ArtifactSemantics, TheKalmanFilterAndTheSoftPenaltyRoundTripAndAreChecked) 
   a = back;
   a.Sigma_delta = -Eigen::MatrixXd::Identity(4, 4);
   EXPECT_NE(check_error(a).find("record 'Sigma_delta'"), std::string::npos) << check_error(a);
+  // Found by the artifact fuzzer: a weight whose negative eigenvalue is within the cost
+  // check's absolute tolerance (1e-9) but not the QP builder's, relative to the weight's
+  // size. It escaped the loader as std::invalid_argument; the loader now builds the QP in
+  // every form the runtime builds it and refuses the artifact with the builder's message.
+  a = back;
+  a.Sigma_delta = 1e-4 * Eigen::MatrixXd::Identity(4, 4);
+  a.Sigma_delta(3, 3) = -1e-10;
+  EXPECT_NE(check_error(a).find("t.tmpc: the QP cannot be built from the records: add_input_rate_weight: Sigma_delta is "
+                                "not positive semidefinite"),
+            std::string::npos)
+      << check_error(a);
   a = back;
   ASSERT_TRUE(back.rate_weighted());  // the noisy design's weights.input_rate
   EXPECT_EQ(back.Sigma_delta, n.Sigma_delta);
