@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include "tmpc/model/config.hpp"
@@ -205,20 +206,50 @@ class Section {
   std::set<std::string> used_;
 };
 
+/// Where a YAML stream's first two documents start (the parser run for at most two).
+/// yaml-cpp 0.7's LoadAll loops forever, allocating, on a stray ',' at the top level
+/// (jbeder/yaml-cpp#1040, fixed upstream by #1319): its parser returns the same empty
+/// document again and again without consuming the token. Two documents that start at
+/// the same place are that parser stuck, not a second document.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& m) override { starts.push_back(m); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
 /// The text of a YAML file as one document (a second document is an error naming its line).
 inline YAML::Node load_single_document(const std::string& text, const std::string& source) {
-  std::vector<YAML::Node> docs;
+  DocumentStarts starts;
+  YAML::Node doc;
   try {
-    docs = YAML::LoadAll(text);
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    for (int i = 0; i < 2 && parser.HandleNextDocument(starts); ++i) {
+    }
+    if (starts.starts.size() == 2 && starts.starts[1].pos == starts.starts[0].pos) {
+      throw ConfigError(source + ": YAML syntax error: yaml-cpp: error at line " +
+                        std::to_string(starts.starts[0].line + 1) + ", column " +
+                        std::to_string(starts.starts[0].column + 1) +
+                        ": a token that starts no node (a stray ',' outside a flow sequence or map?)");
+    }
+    if (starts.starts.size() < 2) doc = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ": YAML syntax error: " + e.what());
   }
-  if (docs.empty()) throw ConfigError(source + ": (top level): the file is empty");
-  if (docs.size() > 1) {
-    throw ConfigError(source + ": a second YAML document starts at line " + std::to_string(docs[1].Mark().line + 1) +
+  if (starts.starts.empty()) throw ConfigError(source + ": (top level): the file is empty");
+  if (starts.starts.size() > 1) {
+    throw ConfigError(source + ": a second YAML document starts at line " + std::to_string(starts.starts[1].line + 1) +
                       " (a file is one document; remove the '---' or split the file)");
   }
-  return docs[0];
+  return doc;
 }
 
 inline Eigen::Vector3d vec3(Section& s, const std::string& k) {

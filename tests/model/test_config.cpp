@@ -1,5 +1,6 @@
 // Config loading: the default file loads, and every class of malformed input is an
 // error that names the file and the key.
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -194,6 +195,29 @@ TEST(Config, ASecondYamlDocumentIsAnError) {
         << e.what();
   }
   EXPECT_THROW(load_config_from_string("", "empty.yaml"), ConfigError);
+}
+
+TEST(Config, AStrayCommaIsASyntaxErrorNotAHang) {
+  // yaml-cpp 0.7's LoadAll loops forever (allocating) on these (jbeder/yaml-cpp#1040);
+  // found by fuzzing the config and scenario loaders. A hang here is ctest's timeout.
+  for (const std::string& text : std::vector<std::string>{",", "\n,\n", ",\n" + default_text(), "- !+(.,.)"}) {
+    std::string msg;
+    try {
+      load_config_from_string(text, "bad.yaml");
+    } catch (const ConfigError& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find("bad.yaml: YAML syntax error"), std::string::npos) << "'" << text.substr(0, 20) << "': " << msg;
+  }
+  const std::string text = default_text();
+  std::string msg;
+  try {
+    load_config_from_string(text + "\n---\nsample_time: 0.5\n", "bad.yaml");
+  } catch (const ConfigError& e) {
+    msg = e.what();
+  }
+  const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  EXPECT_NE(msg.find("second YAML document starts at line " + std::to_string(lines + 2)), std::string::npos) << msg;
 }
 
 TEST(Config, NonPhysicalInertiasAreRefused) {
