@@ -1,0 +1,61 @@
+# Build the configuration and scenario loaders' libFuzzer target with clang (ASan + UBSan)
+# and fuzz it for a bounded time from the shipped configurations and scenarios. It found
+# yaml-cpp 0.7's endless loop on a stray ',' (README "Bad input").
+#   cmake -DCLANG=clang++ -DSRC=<source dir> -DOUT=<scratch dir> [-DSECONDS=N] -P check_fuzz_yaml.cmake
+if(NOT SECONDS)
+  set(SECONDS 60)
+endif()
+file(REMOVE_RECURSE ${OUT}/corpus)
+file(MAKE_DIRECTORY ${OUT}/corpus)
+# Seeds: a leading byte 0 (configuration) or 1 (scenario), then the file.
+file(GLOB configs ${SRC}/config/*.yaml)
+file(GLOB scenarios ${SRC}/config/scenarios/*.yaml)
+set(i 0)
+foreach(f ${configs} ${scenarios})
+  list(FIND configs ${f} is_config)
+  if(is_config EQUAL -1)
+    set(kind 1)
+  else()
+    set(kind 0)
+  endif()
+  execute_process(COMMAND sh -c "printf '\\00${kind}' > '${OUT}/corpus/seed${i}' && cat '${f}' >> '${OUT}/corpus/seed${i}'"
+                  RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "writing the seed of ${f} failed")
+  endif()
+  math(EXPR i "${i} + 1")
+endforeach()
+set(srcs)
+foreach(f model/config model/trajectory_yaml model/trajectory model/quintic_spline model/state_layout model/perturbation
+          model/dynamics model/kinematic_tree model/equilibrium model/checksum model/reference
+          sim/scenario sim/disturbance sim/noise sim/actuator_fault)
+  list(APPEND srcs ${SRC}/src/${f}.cpp)
+endforeach()
+find_path(EIGEN_DIR Eigen/Core PATHS /usr/include/eigen3 /usr/local/include/eigen3 NO_DEFAULT_PATH)
+if(NOT EIGEN_DIR)
+  message(FATAL_ERROR "Eigen headers not found")
+endif()
+include(${SRC}/tests/fuzz_build.cmake)
+fuzz_build(EXE ${OUT}/fuzz_yaml OBJDIR ${OUT}/obj
+           FLAGS -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
+                 -DEIGEN_NO_DEBUG -DTMPC_SCENARIO_DIR="${SRC}/config/scenarios" -I${SRC}/include -I${SRC}/src
+                 -isystem ${EIGEN_DIR}
+           SOURCES ${SRC}/tests/model/fuzz_yaml.cpp ${srcs}
+           LIBS -lyaml-cpp)
+# -timeout: a loader that takes a second on a 40 kB text is a hang.
+execute_process(COMMAND ${OUT}/fuzz_yaml -max_total_time=${SECONDS} -seed=1 -max_len=40000 -timeout=5
+                        -rss_limit_mb=4096 -artifact_prefix=${OUT}/ ${OUT}/corpus
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "fuzzing the configuration and scenario loaders found a failure:\n${err}")
+endif()
+string(REGEX MATCH "Done [0-9]+ runs[^\n]*" done "${err}")
+string(REGEX MATCHALL "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" covs "${err}")
+set(cov "")
+if(covs)
+  list(GET covs -1 cov)  # the last status line: the coverage at the end
+endif()
+if(NOT done)
+  message(FATAL_ERROR "the YAML fuzzer did not report its runs:\n${err}")
+endif()
+message(STATUS "fuzz_yaml: ${done} (${cov})")
