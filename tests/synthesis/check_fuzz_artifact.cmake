@@ -3,8 +3,8 @@
 # the RPI zonotope's generators: accepted and written back byte for byte), then fuzz for a
 # bounded time from that payload with the zonotope cut to its first term
 # (shrink_artifact_seed.py: 110 kB, still an accepted artifact). From the full payload
-# libFuzzer ran about 2 inputs a second (102 runs in 60 s, 7,510 coverage edges); from
-# the cut one about 50 (3,282 runs, 7,722 edges, 64 inputs accepted; measured once).
+# libFuzzer ran about 2 inputs a second (102 runs in 60 s); from the cut one about 50
+# (README "Offline synthesis", the artifact's paragraph, has the measurement).
 #   cmake -DCLANG=clang++ -DTMPC=<tmpc executable> -DSRC=<source dir> -DOUT=<scratch dir> [-DSECONDS=N] -P ...
 if(NOT SECONDS)
   set(SECONDS 60)
