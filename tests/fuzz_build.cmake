@@ -40,3 +40,28 @@ function(fuzz_build)
     message(FATAL_ERROR "linking the fuzz target ${F_EXE} failed:\n${err}")
   endif()
 endfunction()
+
+# Runs a built fuzz target (COMMAND: the executable and libFuzzer's flags) and stops,
+# naming WHAT, on a finding (a crash, an escaped exception, a timeout) or when libFuzzer
+# did not report its runs. Sets FUZZ_DONE ("Done N runs in T second(s)"), FUZZ_COV (the
+# last status line's coverage) and FUZZ_ERR (libFuzzer's output) in the caller's scope.
+#   fuzz_run(WHAT "the artifact loader" COMMAND <exe> <flags...>)
+function(fuzz_run)
+  cmake_parse_arguments(F "" "WHAT" "COMMAND" ${ARGN})
+  execute_process(COMMAND ${F_COMMAND} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "fuzzing ${F_WHAT} found a failure:\n${err}")
+  endif()
+  string(REGEX MATCH "Done [0-9]+ runs[^\n]*" done "${err}")
+  if(NOT done)
+    message(FATAL_ERROR "the fuzzer of ${F_WHAT} did not report its runs:\n${err}")
+  endif()
+  string(REGEX MATCHALL "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" covs "${err}")
+  set(cov "")
+  if(covs)
+    list(GET covs -1 cov)  # the last status line: the coverage at the end
+  endif()
+  set(FUZZ_DONE "${done}" PARENT_SCOPE)
+  set(FUZZ_COV "${cov}" PARENT_SCOPE)
+  set(FUZZ_ERR "${err}" PARENT_SCOPE)
+endfunction()

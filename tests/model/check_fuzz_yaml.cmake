@@ -43,19 +43,7 @@ fuzz_build(EXE ${OUT}/fuzz_yaml OBJDIR ${OUT}/obj
            SOURCES ${SRC}/tests/model/fuzz_yaml.cpp ${srcs}
            LIBS -lyaml-cpp)
 # -timeout: a loader that takes a second on a 40 kB text is a hang.
-execute_process(COMMAND ${OUT}/fuzz_yaml -max_total_time=${SECONDS} -seed=1 -max_len=40000 -timeout=5
-                        -rss_limit_mb=4096 -artifact_prefix=${OUT}/ ${OUT}/corpus
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "fuzzing the configuration and scenario loaders found a failure:\n${err}")
-endif()
-string(REGEX MATCH "Done [0-9]+ runs[^\n]*" done "${err}")
-string(REGEX MATCHALL "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" covs "${err}")
-set(cov "")
-if(covs)
-  list(GET covs -1 cov)  # the last status line: the coverage at the end
-endif()
-if(NOT done)
-  message(FATAL_ERROR "the YAML fuzzer did not report its runs:\n${err}")
-endif()
-message(STATUS "fuzz_yaml: ${done} (${cov})")
+fuzz_run(WHAT "the configuration and scenario loaders"
+         COMMAND ${OUT}/fuzz_yaml -max_total_time=${SECONDS} -seed=1 -max_len=40000 -timeout=5 -rss_limit_mb=4096
+                 -artifact_prefix=${OUT}/ ${OUT}/corpus)
+message(STATUS "fuzz_yaml: ${FUZZ_DONE} (${FUZZ_COV})")

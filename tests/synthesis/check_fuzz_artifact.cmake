@@ -71,24 +71,12 @@ endif()
 # it, and a truncated payload never passes the record parser).
 file(SIZE ${OUT}/corpus/design_small seed_bytes)
 math(EXPR max_len "${seed_bytes} + 4096")
-execute_process(COMMAND ${OUT}/fuzz_artifact -max_total_time=${SECONDS} -runs=200000 -seed=1 -max_len=${max_len}
-                        -rss_limit_mb=4096 ${OUT}/corpus
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "fuzzing the artifact loader found a failure:\n${err}")
-endif()
-string(REGEX MATCH "Done [0-9]+ runs[^\n]*" done "${err}")
-string(REGEX MATCHALL "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+/[0-9a-zA-Z]+" covs "${err}")
-set(cov "")
-if(covs)
-  list(GET covs -1 cov)  # the last status line: the coverage at the end
-endif()
-if(NOT done)
-  message(FATAL_ERROR "the artifact fuzzer did not report its runs:\n${err}")
-endif()
-string(REGEX MATCH "fuzz_artifact: ([0-9]+) inputs accepted" accepted "${err}")
+fuzz_run(WHAT "the artifact loader"
+         COMMAND ${OUT}/fuzz_artifact -max_total_time=${SECONDS} -runs=200000 -seed=1 -max_len=${max_len}
+                 -rss_limit_mb=4096 ${OUT}/corpus)
+string(REGEX MATCH "fuzz_artifact: ([0-9]+) inputs accepted" accepted "${FUZZ_ERR}")
 if(NOT accepted OR CMAKE_MATCH_1 EQUAL 0)
   message(FATAL_ERROR "the artifact fuzzer accepted no input (not even the cut seed, ${seed_bytes} bytes): it fuzzed "
-                      "the header parser only:\n${err}")
+                      "the header parser only:\n${FUZZ_ERR}")
 endif()
-message(STATUS "fuzz_artifact: ${done} (${cov}; ${accepted}; cut seed ${seed_bytes} bytes)")
+message(STATUS "fuzz_artifact: ${FUZZ_DONE} (${FUZZ_COV}; ${accepted}; cut seed ${seed_bytes} bytes)")
