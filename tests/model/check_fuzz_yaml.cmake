@@ -25,24 +25,17 @@ foreach(f ${configs} ${scenarios})
   endif()
   math(EXPR i "${i} + 1")
 endforeach()
-set(srcs)
-foreach(f model/config model/trajectory_yaml model/trajectory model/quintic_spline model/state_layout model/perturbation
+include(${SRC}/tests/fuzz_build.cmake)
+fuzz_sources(model/config model/trajectory_yaml model/trajectory model/quintic_spline model/state_layout model/perturbation
           model/dynamics model/kinematic_tree model/equilibrium model/checksum model/reference
           sim/scenario sim/disturbance sim/noise sim/actuator_fault)
-  list(APPEND srcs ${SRC}/src/${f}.cpp)
-endforeach()
-find_path(EIGEN_DIR Eigen/Core PATHS /usr/include/eigen3 /usr/local/include/eigen3 NO_DEFAULT_PATH)
-if(NOT EIGEN_DIR)
-  message(FATAL_ERROR "Eigen headers not found")
-endif()
-include(${SRC}/tests/fuzz_build.cmake)
 fuzz_build(EXE ${OUT}/fuzz_yaml OBJDIR ${OUT}/obj
            FLAGS -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
                  -DEIGEN_NO_DEBUG -DTMPC_SCENARIO_DIR="${SRC}/config/scenarios" -I${SRC}/include -I${SRC}/src
-                 -isystem ${EIGEN_DIR}
-           SOURCES ${SRC}/tests/model/fuzz_yaml.cpp ${srcs}
+                 -isystem ${FUZZ_EIGEN_DIR}
+           SOURCES ${SRC}/tests/model/fuzz_yaml.cpp ${FUZZ_SOURCES}
            LIBS -lyaml-cpp)
-# -timeout: a loader that takes a second on a 40 kB text is a hang.
+# -timeout: an input the loaders take 5 s over (the files are at most 40 kB) is a hang.
 fuzz_run(WHAT "the configuration and scenario loaders"
          COMMAND ${OUT}/fuzz_yaml -max_total_time=${SECONDS} -seed=1 -max_len=40000 -timeout=5 -rss_limit_mb=4096
                  -artifact_prefix=${OUT}/ ${OUT}/corpus)

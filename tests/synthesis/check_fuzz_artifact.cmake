@@ -37,28 +37,21 @@ execute_process(COMMAND ${PYTHON3} ${SRC}/tests/synthesis/shrink_artifact_seed.p
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cutting the seed's zonotope failed:\n${shrunk}${err}")
 endif()
-set(srcs)
-foreach(f synthesis/artifact synthesis/artifact_checks synthesis/record_file synthesis/lqr synthesis/estimator synthesis/rpi
+include(${SRC}/tests/fuzz_build.cmake)
+fuzz_sources(synthesis/artifact synthesis/artifact_checks synthesis/record_file synthesis/lqr synthesis/estimator synthesis/rpi
           model/checksum model/config model/trajectory_yaml model/trajectory model/quintic_spline
           model/dynamics model/kinematic_tree model/equilibrium model/state_layout qp/mpc_qp qp/disturbance_target
           qp/parametric_qp qp/redundant_rows sets/box sets/zonotope sets/lp)
-  list(APPEND srcs ${SRC}/src/${f}.cpp)
-endforeach()
-find_path(EIGEN_DIR Eigen/Core PATHS /usr/include/eigen3 /usr/local/include/eigen3 NO_DEFAULT_PATH)
-if(NOT EIGEN_DIR)
-  message(FATAL_ERROR "Eigen headers not found")
-endif()
 # CLP: the artifact's redundant-row certificate (qp/redundant_rows.cpp) solves LPs.
 find_path(CLP_DIR ClpSimplex.hpp PATHS /usr/include/coin /usr/include/coin-or /usr/local/include/coin NO_DEFAULT_PATH)
 if(NOT CLP_DIR)
   message(FATAL_ERROR "CLP headers not found")
 endif()
 # -gline-tables-only: file and line in a report, a fifth less compile time than -g.
-include(${SRC}/tests/fuzz_build.cmake)
 fuzz_build(EXE ${OUT}/fuzz_artifact OBJDIR ${OUT}/obj
            FLAGS -std=c++17 -O1 -gline-tables-only -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-                 -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${EIGEN_DIR} -isystem ${CLP_DIR}
-           SOURCES ${SRC}/tests/synthesis/fuzz_artifact.cpp ${srcs}
+                 -DEIGEN_NO_DEBUG -I${SRC}/include -isystem ${FUZZ_EIGEN_DIR} -isystem ${CLP_DIR}
+           SOURCES ${SRC}/tests/synthesis/fuzz_artifact.cpp ${FUZZ_SOURCES}
            LIBS -lyaml-cpp -lClp -lCoinUtils)
 # The full payload once (a file argument runs it and exits): the real design is accepted.
 execute_process(COMMAND ${OUT}/fuzz_artifact -rss_limit_mb=4096 ${OUT}/design
