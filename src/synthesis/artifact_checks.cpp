@@ -122,25 +122,6 @@ MpcQpData built_qp(const std::string& source, const ControllerArtifact& a, bool 
   }
 }
 
-void check_records(const ControllerArtifact& a, const std::string& source);
-
-}  // namespace
-
-void check_artifact(const ControllerArtifact& a, const std::string& source) {
-  // Every refusal is an ArtifactError naming the file: a check's own computation that
-  // throws (an Eigen size, a builder's precondition) on records no check foresaw refuses
-  // the artifact too, instead of escaping the loader as another exception.
-  try {
-    check_records(a, source);
-  } catch (const ArtifactError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw ArtifactError(source + ": the records could not be checked: " + e.what());
-  }
-}
-
-namespace {
-
 void check_records(const ControllerArtifact& a, const std::string& source) {
   const Checker c(source);
   // Dimensions the runtime supports, and every record consistent with them.
@@ -350,5 +331,18 @@ void check_records(const ControllerArtifact& a, const std::string& source) {
 }
 
 }  // namespace
+
+void check_artifact(const ControllerArtifact& a, const std::string& source) {
+  // Every refusal is an ArtifactError naming the file: a check's own computation that
+  // throws (an Eigen size, a builder's precondition) on records no check foresaw refuses
+  // the artifact too, instead of escaping the loader as another exception.
+  try {
+    check_records(a, source);
+  } catch (const ArtifactError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ArtifactError(source + ": the records could not be checked: " + e.what());
+  }
+}
 
 }  // namespace tmpc
